@@ -1,0 +1,144 @@
+#include "urdf_multibody.hpp"
+
+#include <urdf_parser/urdf_parser.h>
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+namespace ballast::simbody {
+namespace {
+
+SimTK::Transform toTransform(const urdf::Pose& pose) {
+  const SimTK::Quaternion q(pose.rotation.w, pose.rotation.x, pose.rotation.y, pose.rotation.z);
+  return SimTK::Transform(SimTK::Rotation(q),
+                          SimTK::Vec3(pose.position.x, pose.position.y, pose.position.z));
+}
+
+SimTK::MassProperties massProperties(const urdf::Inertial& in) {
+  const SimTK::Transform X_LC = toTransform(in.origin);
+  const SimTK::Inertia centralInC(SimTK::Mat33(in.ixx, in.ixy, in.ixz,  //
+                                               in.ixy, in.iyy, in.iyz,  //
+                                               in.ixz, in.iyz, in.izz));
+  const SimTK::Inertia centralInL = centralInC.reexpress(~X_LC.R());
+  return SimTK::MassProperties(in.mass, X_LC.p(),
+                               centralInL.shiftFromMassCenter(X_LC.p(), in.mass));
+}
+
+class Builder {
+ public:
+  Builder(const urdf::ModelInterface& urdf, UrdfMultibody& mb, std::map<std::string, int> order)
+      : urdf_(urdf), mb_(mb), order_(std::move(order)) {}
+
+  void build() {
+    urdf::LinkConstSharedPtr root = urdf_.getRoot();
+    if (!root->inertial && root->child_joints.size() == 1 &&
+        root->child_joints[0]->type == urdf::Joint::FLOATING)
+      root = urdf_.getLink(root->child_joints[0]->child_link_name);
+    if (!root->inertial) throw std::runtime_error("the root link '" + root->name + "' has no mass");
+    SimTK::MobilizedBody::Free base(mb_.matter.Ground(), SimTK::Transform(),
+                                    SimTK::Body::Rigid(massProperties(*root->inertial)),
+                                    SimTK::Transform());
+    mb_.base = base.getMobilizedBodyIndex();
+    addLink(*root, mb_.base, SimTK::Transform());
+    // Bodies are created depth first (welded links included); list joints in file order.
+    std::stable_sort(mb_.jointNames.begin(), mb_.jointNames.end(),
+                     [&](const auto& a, const auto& b) { return order_.at(a) < order_.at(b); });
+  }
+
+ private:
+  void addLink(const urdf::Link& link, SimTK::MobilizedBodyIndex body, const SimTK::Transform& X) {
+    mb_.linkFrame[link.name] = UrdfMultibody::LinkFrame{body, X};
+    std::vector<urdf::JointSharedPtr> children = link.child_joints;
+    std::stable_sort(children.begin(), children.end(), [&](const auto& a, const auto& b) {
+      return order_.at(a->name) < order_.at(b->name);
+    });
+    for (const auto& joint : children) addJoint(*joint, body, X);
+  }
+
+  void addJoint(const urdf::Joint& joint, SimTK::MobilizedBodyIndex parent,
+                const SimTK::Transform& X_PL) {
+    const urdf::LinkConstSharedPtr child = urdf_.getLink(joint.child_link_name);
+    const SimTK::Transform X_PJ = X_PL * toTransform(joint.parent_to_joint_origin_transform);
+    if (joint.type == urdf::Joint::FIXED && !child->inertial) {
+      addLink(*child, parent, X_PJ);
+      return;
+    }
+    if (!child->inertial)
+      throw std::runtime_error("link '" + child->name + "' is moved by joint '" + joint.name +
+                               "' but has no <inertial>");
+    const SimTK::Body::Rigid body(massProperties(*child->inertial));
+    SimTK::MobilizedBody& P = mb_.matter.updMobilizedBody(parent);
+    const SimTK::UnitVec3 axis(joint.axis.x, joint.axis.y, joint.axis.z);
+    SimTK::MobilizedBodyIndex index;
+    switch (joint.type) {
+      case urdf::Joint::FIXED:
+        index = SimTK::MobilizedBody::Weld(P, X_PJ, body, SimTK::Transform())
+                    .getMobilizedBodyIndex();
+        break;
+      case urdf::Joint::REVOLUTE:
+      case urdf::Joint::CONTINUOUS: {
+        // A Pin turns about z of its frames: align z with the URDF axis on both sides.
+        const SimTK::Rotation R_JM(axis, SimTK::ZAxis);
+        index = SimTK::MobilizedBody::Pin(P, X_PJ * SimTK::Transform(R_JM), body,
+                                          SimTK::Transform(R_JM))
+                    .getMobilizedBodyIndex();
+        break;
+      }
+      case urdf::Joint::PRISMATIC: {
+        const SimTK::Rotation R_JM(axis, SimTK::XAxis);  // a Slider moves along x
+        index = SimTK::MobilizedBody::Slider(P, X_PJ * SimTK::Transform(R_JM), body,
+                                             SimTK::Transform(R_JM))
+                    .getMobilizedBodyIndex();
+        break;
+      }
+      default:
+        throw std::runtime_error("joint '" + joint.name + "' has a type Simbody is not given");
+    }
+    if (joint.type != urdf::Joint::FIXED) {
+      mb_.jointNames.push_back(joint.name);
+      mb_.jointBody[joint.name] = index;
+      mb_.effortLimit[joint.name] = joint.limits ? joint.limits->effort : 0.0;
+    }
+    addLink(*child, index, SimTK::Transform());
+  }
+
+  const urdf::ModelInterface& urdf_;
+  UrdfMultibody& mb_;
+  std::map<std::string, int> order_;
+};
+
+/// Joint order in the file (urdfdom keeps joints in a name-sorted map).
+std::map<std::string, int> jointFileOrder(const std::string& xml) {
+  TiXmlDocument doc;
+  doc.Parse(xml.c_str());
+  std::map<std::string, int> order;
+  if (const TiXmlElement* robot = doc.RootElement()) {
+    int n = 0;
+    for (const TiXmlElement* e = robot->FirstChildElement("joint"); e;
+         e = e->NextSiblingElement("joint"))
+      if (const char* name = e->Attribute("name")) order[name] = n++;
+  }
+  return order;
+}
+
+}  // namespace
+
+std::unique_ptr<UrdfMultibody> buildUrdfMultibody(const std::string& urdfPath) {
+  std::ifstream in(urdfPath);
+  if (!in) throw std::runtime_error(urdfPath + ": cannot read the URDF");
+  std::stringstream text;
+  text << in.rdbuf();
+  const urdf::ModelInterfaceSharedPtr parsed = urdf::parseURDF(text.str());
+  if (!parsed) throw std::runtime_error(urdfPath + ": urdfdom could not parse the URDF");
+  auto mb = std::make_unique<UrdfMultibody>();
+  mb->robotName = parsed->getName();
+  try {
+    Builder(*parsed, *mb, jointFileOrder(text.str())).build();
+  } catch (const std::exception& e) {
+    throw std::runtime_error(urdfPath + ": " + e.what());
+  }
+  return mb;
+}
+
+}  // namespace ballast::simbody

@@ -1,0 +1,50 @@
+// A Simbody multibody system built from a URDF with urdfdom directly — independently of the
+// daemon's model loader, which makes it a fair oracle for daemon/model and keeps the plugin
+// free of daemon internals.
+//
+// Every URDF link with <inertial> becomes a Simbody body: the root on a Free mobilizer, links on
+// revolute/continuous joints on Pin, prismatic on Slider, fixed ones on Weld. Links without
+// <inertial> (contact points, sensor frames) are not bodies: they are frames on their nearest
+// massive ancestor (linkFrame). Simbody's Free mobilizer has q = (quaternion, position) and
+// u = (ω, v) with world axes; the Pin's q and u are the joint angle and rate.
+//
+// Compile users with -UNDEBUG (see DEPENDENCIES.md and ballast_use_simbody()).
+#pragma once
+
+#include <Simbody.h>
+
+#include <map>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ballast::simbody {
+
+struct UrdfMultibody {
+  /// A URDF link as a frame on a Simbody body.
+  struct LinkFrame {
+    SimTK::MobilizedBodyIndex body;
+    SimTK::Transform inBody;  ///< link frame in the body frame
+  };
+
+  SimTK::MultibodySystem system;
+  SimTK::SimbodyMatterSubsystem matter{system};
+  SimTK::GeneralForceSubsystem forces{system};
+
+  std::string robotName;
+  SimTK::MobilizedBodyIndex base;                      ///< root link, Free mobilizer
+  std::vector<std::string> jointNames;                 ///< movable joints, in file order
+  std::map<std::string, SimTK::MobilizedBodyIndex> jointBody;  ///< movable joint -> body it moves
+  std::map<std::string, LinkFrame> linkFrame;          ///< every link
+  std::map<std::string, double> effortLimit;           ///< movable joint -> URDF effort
+
+  const SimTK::MobilizedBody& body(SimTK::MobilizedBodyIndex i) const {
+    return matter.getMobilizedBody(i);
+  }
+};
+
+/// Builds the system (topology not yet realized). Throws std::runtime_error naming the file.
+std::unique_ptr<UrdfMultibody> buildUrdfMultibody(const std::string& urdfPath);
+
+}  // namespace ballast::simbody

@@ -1,0 +1,220 @@
+// The URDF loader: the humanoid's structure, and a clear error for each kind of broken file.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <regex>
+
+#include "test/unit/test_support.hpp"
+
+namespace ballast::test {
+namespace {
+
+using model::JointType;
+using model::loadUrdfString;
+using model::ModelError;
+
+TEST(UrdfLoader, HumanoidStructure) {
+  const model::Model& m = humanoid();
+  EXPECT_EQ(m.name, "ballast_humanoid");
+  EXPECT_EQ(m.nj(), 24);
+  EXPECT_EQ(m.nq, 31);
+  EXPECT_EQ(m.nv, 30);
+  EXPECT_EQ(m.bodyName[0], "pelvis");
+  // Depth-first, file order: left leg, right leg, left arm, right arm.
+  EXPECT_EQ(m.jointName[1], "left_hip_yaw");
+  EXPECT_EQ(m.jointName[6], "left_ankle_roll");
+  EXPECT_EQ(m.jointName[7], "right_hip_yaw");
+  EXPECT_EQ(m.jointName[13], "left_shoulder_pitch");
+  EXPECT_EQ(m.jointName[24], "right_wrist_pitch");
+  for (int i = 1; i < m.nbodies(); ++i) {
+    EXPECT_LT(m.parent[i], i);
+    EXPECT_EQ(m.jointType[i], JointType::Revolute);
+    EXPECT_NEAR(m.jointAxis[i].norm(), 1.0, 1e-12);
+  }
+  for (const char* f : {"left_toe", "left_heel", "right_toe", "right_heel", "imu", "lidar", "torso"})
+    EXPECT_GE(m.findFrame(f), 0) << f;
+  // Torso and head are merged into the pelvis body.
+  EXPECT_EQ(m.frames[m.frameId("torso")].body, 0);
+  EXPECT_EQ(m.frames[m.frameId("head")].body, 0);
+  EXPECT_NEAR(m.inertia[0].mass, 22.5, 1e-12);
+  EXPECT_NEAR(m.frames[m.frameId("head")].placement.p.z(), 0.55, 1e-12);
+  EXPECT_EQ(m.frames[m.frameId("left_toe")].body, m.frames[m.frameId("left_foot")].body);
+  // Limits as written.
+  const int knee = m.jointId("left_knee");
+  EXPECT_DOUBLE_EQ(m.lowerPositionLimit[knee], 0.0);
+  EXPECT_DOUBLE_EQ(m.upperPositionLimit[knee], 2.4);
+  EXPECT_DOUBLE_EQ(m.effortLimit[knee], 250.0);
+  EXPECT_DOUBLE_EQ(m.velocityLimit[knee], 14.0);
+  EXPECT_THROW(m.frameId("no_such_frame"), ModelError);
+  EXPECT_EQ(m.findJoint("waist"), -1);  // fixed joints are not joints of the model
+}
+
+// A two-link robot; tests replace pieces of it to break it in one place at a time.
+const std::string kInertial =
+    R"(<inertial><mass value="1"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>)";
+std::string tinyRobot(const std::string& childInertial = kInertial,
+                      const std::string& jointType = "revolute",
+                      const std::string& limit =
+                          R"(<limit lower="-1" upper="1" effort="10" velocity="5"/>)",
+                      const std::string& axis = R"(<axis xyz="0 1 0"/>)",
+                      const std::string& extra = "") {
+  return "<?xml version=\"1.0\"?>\n<robot name=\"tiny\">\n"
+         "  <link name=\"base\">" + kInertial + "</link>\n"
+         "  <link name=\"child\">" + childInertial + "</link>\n"
+         "  <joint name=\"j1\" type=\"" + jointType + "\">\n"
+         "    <parent link=\"base\"/><child link=\"child\"/>" + axis + limit + "\n"
+         "  </joint>\n" + extra + "</robot>\n";
+}
+
+/// The loader's message for `xml`, or "" if it loads.
+std::string errorFor(const std::string& xml) {
+  try {
+    loadUrdfString(xml, "tiny.urdf");
+  } catch (const ModelError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(UrdfLoader, TinyRobotLoads) {
+  const model::Model m = loadUrdfString(tinyRobot(), "tiny.urdf");
+  EXPECT_EQ(m.nj(), 1);
+  EXPECT_EQ(m.jointName[1], "j1");
+}
+
+TEST(UrdfLoader, MissingFileNamesThePath) {
+  try {
+    model::loadUrdfFile("/nonexistent/robot.urdf");
+    FAIL() << "no error";
+  } catch (const ModelError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/robot.urdf: cannot read"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(UrdfLoader, XmlSyntaxErrorHasLineAndColumn) {
+  std::string xml = tinyRobot();
+  xml.replace(xml.find("</joint>"), 8, "</jont>");
+  const std::string msg = errorFor(xml);
+  EXPECT_TRUE(std::regex_search(msg, std::regex(R"(^tiny\.urdf:\d+:\d+: XML error)"))) << msg;
+}
+
+TEST(UrdfLoader, RootElementMustBeRobot) {
+  const std::string msg = errorFor("<?xml version=\"1.0\"?>\n<model name=\"x\"/>\n");
+  EXPECT_NE(msg.find("tiny.urdf: the root element is <model>"), std::string::npos) << msg;
+}
+
+TEST(UrdfLoader, NotATreeIsRejectedWithUrdfdomsReason) {
+  // A second parentless link: two roots.
+  const std::string msg = errorFor(tinyRobot(kInertial, "revolute",
+                                             R"(<limit lower="-1" upper="1" effort="10" velocity="5"/>)",
+                                             R"(<axis xyz="0 1 0"/>)",
+                                             "  <link name=\"stray\">" + kInertial + "</link>\n"));
+  EXPECT_NE(msg.find("tiny.urdf: invalid URDF:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("root"), std::string::npos) << msg;
+}
+
+TEST(UrdfLoader, DanglingChildLinkIsRejected) {
+  std::string xml = tinyRobot();
+  xml.replace(xml.find("<child link=\"child\"/>"), 21, "<child link=\"ghost\"/>");
+  const std::string msg = errorFor(xml);
+  EXPECT_NE(msg.find("tiny.urdf: invalid URDF:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("ghost"), std::string::npos) << msg;
+}
+
+TEST(UrdfLoader, UnsupportedJointTypeNamesJointAndLine) {
+  const std::string msg = errorFor(tinyRobot(kInertial, "planar"));
+  EXPECT_NE(msg.find("tiny.urdf:5:3: <joint name=\"j1\">: type 'planar' is not supported"),
+            std::string::npos)
+      << msg;
+}
+
+TEST(UrdfLoader, FloatingJointInsideTheTreeIsRejected) {
+  const std::string msg = errorFor(tinyRobot(kInertial, "floating", ""));
+  EXPECT_NE(msg.find("<joint name=\"j1\">: type 'floating'"), std::string::npos) << msg;
+}
+
+TEST(UrdfLoader, MovingLinkWithoutInertialIsRejected) {
+  const std::string msg = errorFor(tinyRobot(""));
+  EXPECT_NE(msg.find("tiny.urdf:4:3: <link name=\"child\">: no <inertial>"), std::string::npos)
+      << msg;
+}
+
+TEST(UrdfLoader, NonPhysicalInertiaIsRejected) {
+  const std::string triangle =
+      R"(<inertial><mass value="1"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.5"/></inertial>)";
+  EXPECT_NE(errorFor(tinyRobot(triangle)).find("<link name=\"child\">: <inertial>: principal "
+                                               "moments"),
+            std::string::npos)
+      << errorFor(tinyRobot(triangle));
+  const std::string indefinite =
+      R"(<inertial><mass value="1"/><inertia ixx="0.1" ixy="0.3" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>)";
+  EXPECT_NE(errorFor(tinyRobot(indefinite)).find("not positive definite"), std::string::npos)
+      << errorFor(tinyRobot(indefinite));
+  const std::string massless =
+      R"(<inertial><mass value="0"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>)";
+  EXPECT_NE(errorFor(tinyRobot(massless)).find("mass must be positive"), std::string::npos)
+      << errorFor(tinyRobot(massless));
+}
+
+TEST(UrdfLoader, BadLimitsAreRejected) {
+  const std::string inverted =
+      errorFor(tinyRobot(kInertial, "revolute",
+                         R"(<limit lower="1" upper="-1" effort="10" velocity="5"/>)"));
+  EXPECT_NE(inverted.find("<joint name=\"j1\">: <limit> lower (1.000000) must be below upper"),
+            std::string::npos)
+      << inverted;
+  const std::string noEffort = errorFor(
+      tinyRobot(kInertial, "revolute", R"(<limit lower="-1" upper="1" effort="0" velocity="5"/>)"));
+  EXPECT_NE(noEffort.find("<limit> effort must be positive"), std::string::npos) << noEffort;
+  const std::string badVelocity = errorFor(tinyRobot(
+      kInertial, "revolute", R"(<limit lower="-1" upper="1" effort="10" velocity="-2"/>)"));
+  EXPECT_NE(badVelocity.find("<limit> velocity must be positive"), std::string::npos)
+      << badVelocity;
+  // urdfdom itself refuses a revolute joint without <limit>; a continuous one reaches us.
+  const std::string revoluteNoLimit = errorFor(tinyRobot(kInertial, "revolute", ""));
+  EXPECT_NE(revoluteNoLimit.find("tiny.urdf: invalid URDF:"), std::string::npos)
+      << revoluteNoLimit;
+  const std::string continuousNoLimit = errorFor(tinyRobot(kInertial, "continuous", ""));
+  EXPECT_NE(continuousNoLimit.find("<joint name=\"j1\">: no <limit>"), std::string::npos)
+      << continuousNoLimit;
+}
+
+TEST(UrdfLoader, ContinuousJointHasUnboundedPosition) {
+  const model::Model m = loadUrdfString(
+      tinyRobot(kInertial, "continuous", R"(<limit effort="10" velocity="5"/>)"), "tiny.urdf");
+  EXPECT_TRUE(std::isinf(m.upperPositionLimit[0]));
+  EXPECT_TRUE(std::isinf(m.lowerPositionLimit[0]));
+}
+
+TEST(UrdfLoader, ZeroAxisIsRejected) {
+  const std::string msg = errorFor(tinyRobot(kInertial, "revolute",
+                                             R"(<limit lower="-1" upper="1" effort="10" velocity="5"/>)",
+                                             R"(<axis xyz="0 0 0"/>)"));
+  EXPECT_NE(msg.find("tiny.urdf"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("axis"), std::string::npos) << msg;
+}
+
+TEST(UrdfLoader, WorldRootWithFloatingJointIsSkipped) {
+  std::string xml = tinyRobot();
+  xml.replace(xml.find("</robot>"), 8,
+              "  <link name=\"world\"/>\n"
+              "  <joint name=\"float\" type=\"floating\"><parent link=\"world\"/>"
+              "<child link=\"base\"/></joint>\n</robot>");
+  const model::Model m = loadUrdfString(xml, "tiny.urdf");
+  EXPECT_EQ(m.bodyName[0], "base");
+  EXPECT_EQ(m.nj(), 1);
+}
+
+TEST(UrdfLoader, MasslessBaseIsRejected) {
+  std::string xml = tinyRobot();
+  xml.replace(xml.find("<link name=\"base\">" + kInertial + "</link>"),
+              std::string("<link name=\"base\">" + kInertial + "</link>").size(),
+              "<link name=\"base\"/>");
+  const std::string msg = errorFor(xml);
+  EXPECT_NE(msg.find("<link name=\"base\">: the floating base"), std::string::npos) << msg;
+}
+
+}  // namespace
+}  // namespace ballast::test

@@ -1,0 +1,38 @@
+// Shared fixtures for the tests: the robot, random states, finite differences.
+#pragma once
+
+#include <random>
+#include <string>
+
+#include "model/algorithms.hpp"
+
+namespace ballast::test {
+
+inline std::string humanoidUrdf() { return std::string(BALLAST_SOURCE_DIR) + "/urdf/humanoid.urdf"; }
+
+inline const model::Model& humanoid() {
+  static const model::Model m = model::loadUrdfFile(humanoidUrdf());
+  return m;
+}
+
+/// Random configuration, velocity and acceleration with realistic magnitudes.
+struct RandomState {
+  model::VecX<double> q, v, a;
+};
+
+inline RandomState randomState(const model::Model& model, std::mt19937& rng) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  RandomState s;
+  s.q = model::randomConfiguration(model, rng);
+  s.v = model::VecX<double>::NullaryExpr(model.nv, [&] { return 2.0 * u(rng); });
+  s.a = model::VecX<double>::NullaryExpr(model.nv, [&] { return 5.0 * u(rng); });
+  return s;
+}
+
+/// Central difference of f along t = 0 (f returns an Eigen vector).
+template <typename F>
+auto centralDifference(F&& f, double h = 1e-6) {
+  return ((f(h) - f(-h)) / (2.0 * h)).eval();
+}
+
+}  // namespace ballast::test
