@@ -12,3 +12,18 @@ function(ballast_add_gtest)
     BALLAST_TEST_DATA_DIR="${PROJECT_SOURCE_DIR}/test/data")
   gtest_discover_tests(${T_NAME} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${T_LABELS}")
 endfunction()
+
+# Backend plugins: build/lib/ballast/libballast_backend_<name>.so, installed to <libdir>/ballast.
+set(BALLAST_PLUGIN_BUILD_DIR ${PROJECT_BINARY_DIR}/lib/ballast)
+
+# ballast_add_backend(NAME name SOURCES ...): a plugin module that sees only the ABI header.
+function(ballast_add_backend)
+  cmake_parse_arguments(B "" "NAME" "SOURCES" ${ARGN})
+  set(target ballast_backend_${B_NAME})
+  add_library(${target} MODULE ${B_SOURCES})
+  set_target_properties(${target} PROPERTIES
+    LIBRARY_OUTPUT_DIRECTORY ${BALLAST_PLUGIN_BUILD_DIR}
+    CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON)
+  target_link_libraries(${target} PRIVATE ballast_backend_abi)
+  install(TARGETS ${target} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/ballast)
+endfunction()

@@ -1,0 +1,97 @@
+#include "backend/plugin_loader.hpp"
+
+#include <dlfcn.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <sstream>
+
+namespace ballast::backend {
+namespace {
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::stringstream in(s);
+  for (std::string part; std::getline(in, part, sep);)
+    if (!part.empty()) out.push_back(part);
+  return out;
+}
+
+std::string dlerrorText() {
+  const char* e = dlerror();
+  return e ? e : "no dlerror() message";
+}
+
+}  // namespace
+
+std::string pluginFileName(const std::string& name) { return "libballast_backend_" + name + ".so"; }
+
+std::vector<std::string> defaultPluginDirs() {
+  std::vector<std::string> dirs;
+  if (const char* env = std::getenv("BALLAST_PLUGIN_PATH")) dirs = split(env, ':');
+  dirs.push_back(BALLAST_BUILD_PLUGIN_DIR);
+  dirs.push_back(BALLAST_INSTALL_PLUGIN_DIR);
+  return dirs;
+}
+
+std::shared_ptr<Plugin> Plugin::load(const std::string& nameOrPath,
+                                     const std::vector<std::string>& extraDirs) {
+  std::string path;
+  if (nameOrPath.find('/') != std::string::npos) {
+    path = nameOrPath;
+    if (access(path.c_str(), R_OK) != 0)
+      throw PluginError("backend plugin " + path + ": no such readable file");
+  } else {
+    std::vector<std::string> dirs = extraDirs;
+    for (const auto& d : defaultPluginDirs()) dirs.push_back(d);
+    const std::string file = pluginFileName(nameOrPath);
+    std::string searched;
+    for (const auto& d : dirs) {
+      const std::string candidate = d + "/" + file;
+      if (access(candidate.c_str(), R_OK) == 0) {
+        path = candidate;
+        break;
+      }
+      searched += (searched.empty() ? "" : ", ") + d;
+    }
+    if (path.empty())
+      throw PluginError("backend '" + nameOrPath + "': no " + file + " in " + searched +
+                        " (set backend.plugin_dirs in the profile or BALLAST_PLUGIN_PATH)");
+  }
+
+  dlerror();
+  void* handle = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!handle)
+    throw PluginError("backend plugin " + path + ": cannot load it: " + dlerrorText());
+  dlerror();
+  auto fn = reinterpret_cast<BallastBackendEntryFn>(dlsym(handle, kBackendEntrySymbol));
+  if (!fn) {
+    const std::string why = dlerrorText();
+    dlclose(handle);
+    throw PluginError("backend plugin " + path + ": not a ballast backend: no symbol '" +
+                      kBackendEntrySymbol + "' (" + why + ")");
+  }
+  const BackendEntry* entry = fn();
+  if (!entry || entry->abi_version != kBackendAbiVersion) {
+    const std::string got = entry ? std::to_string(entry->abi_version) : "none";
+    dlclose(handle);
+    throw PluginError("backend plugin " + path + ": built for backend ABI version " + got +
+                      ", this ballastd speaks version " + std::to_string(kBackendAbiVersion) +
+                      ": rebuild the plugin against this tree's plugins/backend_abi.hpp");
+  }
+  if (!entry->create || !entry->destroy) {
+    dlclose(handle);
+    throw PluginError("backend plugin " + path + ": its entry has no create/destroy function");
+  }
+  return std::shared_ptr<Plugin>(new Plugin(handle, entry, path));
+}
+
+Plugin::~Plugin() {
+  if (handle_) dlclose(handle_);
+}
+
+BackendPtr Plugin::create() const {
+  return BackendPtr(entry_->create(), BackendDeleter{entry_->destroy});
+}
+
+}  // namespace ballast::backend

@@ -1,0 +1,184 @@
+// The backend ABI: what ballastd and a backend plugin (simulation or hardware) share.
+//
+// A backend is a shared library exporting one C symbol, kBackendEntrySymbol, of type
+// BackendEntryFn. It returns a BackendEntry whose first field is the ABI version the plugin
+// was built with; ballastd refuses any other version before touching the rest. The entry
+// creates and destroys Backend instances (a C++ interface: daemon and plugins are built by the
+// same compiler from the same tree).
+//
+// Everything that crosses the boundary per tick is a fixed-size plain struct: no allocation,
+// no std::string, no exceptions. Per tick, on the control thread:
+//     read(sensors) -> controller -> write(commands) -> advance()
+// `advance` either sleeps until the next tick (real time) or steps the simulation one control
+// period (lockstep). A call that cannot finish within one period, or data that do not change
+// (sensors.sequence repeats), is reported as a fault; ballastd then damps the robot.
+//
+// Frames and units: SI; world frame z up; IMU quantities in the IMU frame; joint order is the
+// backend's (capabilities().joint_names), which ballastd maps to its model by name.
+//
+// Bump kBackendAbiVersion for any change to a type or a virtual function in this file.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+
+namespace ballast::backend {
+
+inline constexpr std::uint32_t kBackendAbiVersion = 1;
+inline constexpr const char* kBackendEntrySymbol = "ballast_backend_entry";
+
+inline constexpr int kMaxJoints = 32;
+inline constexpr int kMaxContacts = 8;
+inline constexpr int kNameLength = 48;
+inline constexpr int kMessageLength = 512;
+
+/// A message for the operator; empty when all is well. Backend::copyMessage() sets it.
+struct Error {
+  char message[kMessageLength] = {};
+  bool empty() const { return message[0] == '\0'; }
+};
+
+/// Result of a per-tick call.
+enum class Status : int {
+  kOk = 0,
+  kStale = 1,    ///< no new data since the last read
+  kOverrun = 2,  ///< the call or the tick took longer than one control period
+  kFault = 3,    ///< the backend cannot go on (bus error, simulation diverged, ...); see lastError
+};
+
+/// What ballastd hands a backend at configure time.
+struct Config {
+  const char* section_yaml = "";    ///< the profile's backend section (its own keys), YAML text
+  const char* section_origin = "";  ///< "file:line" where that section starts, for messages
+  const char* urdf_path = "";       ///< the robot model the controller uses
+  const char* terrain_map = "";     ///< OctoMap file (.bt/.ot) the planner uses; "" = flat floor
+  const char* const* contact_frames = nullptr;  ///< URDF link names of the contact points
+  int num_contacts = 0;
+  double period = 0.001;            ///< control period, s
+  bool lockstep = false;            ///< advance() steps the simulation instead of sleeping
+  std::uint64_t seed = 0;           ///< for sensor noise and anything random
+};
+
+struct Capabilities {
+  char name[kNameLength] = {};  ///< "simbody", "socketcan", ...
+  bool simulation = false;
+  bool lockstep = false;        ///< can run in lockstep (deterministic, faster than real time)
+  bool ground_truth = false;    ///< Sensors::truth is filled
+  bool lidar = false;           ///< lidarScan() returns scans
+  bool disturbance = false;     ///< push() works
+  int num_joints = 0;
+  char joint_names[kMaxJoints][kNameLength] = {};
+};
+
+struct Imu {
+  double orientation[4] = {0, 0, 0, 1};  ///< world <- IMU, quaternion (x, y, z, w)
+  double angular_velocity[3] = {};       ///< IMU frame, rad/s
+  double linear_acceleration[3] = {};    ///< specific force in the IMU frame, m/s² (1 g up at rest)
+};
+
+/// Ground truth from a simulator: for diagnostics and scoring, never silently for control.
+struct Truth {
+  double base_position[3] = {};          ///< world
+  double base_orientation[4] = {0, 0, 0, 1};  ///< world <- base, (x, y, z, w)
+  double base_linear_velocity[3] = {};   ///< world
+  double base_angular_velocity[3] = {};  ///< world
+  double contact_force[kMaxContacts][3] = {};  ///< per Config::contact_frames, world, N
+  bool contact[kMaxContacts] = {};
+  bool non_foot_contact = false;         ///< a body other than the feet touches the terrain
+};
+
+struct Sensors {
+  double time = 0.0;            ///< backend clock, s (simulation time in lockstep)
+  std::uint64_t sequence = 0;   ///< increases with every new sample
+  int num_joints = 0;
+  double q[kMaxJoints] = {};    ///< rad
+  double dq[kMaxJoints] = {};   ///< rad/s
+  double tau[kMaxJoints] = {};  ///< measured joint torque, N·m
+  Imu imu;
+  bool imu_valid = false;
+  bool has_truth = false;
+  Truth truth;
+};
+
+/// Per joint: the motor applies tau_ff + kp (q_des − q) + kd (dq_des − dq), within its limits.
+struct JointCommand {
+  double tau_ff = 0.0;
+  double q_des = 0.0;
+  double dq_des = 0.0;
+  double kp = 0.0;
+  double kd = 0.0;
+};
+
+struct Commands {
+  double time = 0.0;  ///< controller time the commands were computed for
+  int num_joints = 0;
+  JointCommand joint[kMaxJoints];
+};
+
+/// An external force on a body (simulation), held for a duration of backend time.
+struct Push {
+  char body[kNameLength] = {};  ///< URDF link name; "" = the floating base
+  double force[3] = {};         ///< world, N, applied at the body's origin
+  double duration = 0.0;        ///< s
+};
+
+/// A lidar scan: points in the world frame, valid until the next call on the backend.
+struct PointCloudView {
+  const float* xyz = nullptr;  ///< 3 * count floats
+  int count = 0;
+  double time = 0.0;
+  double sensor_origin[3] = {};  ///< world
+};
+
+class Backend {
+ public:
+  virtual ~Backend() = default;
+
+  /// Reads the profile section and builds the world/opens the buses. On failure returns false
+  /// with a message naming the section (config.section_origin), the key and what is wrong.
+  virtual bool configure(const Config& config, Error& error) = 0;
+  /// Valid after a successful configure().
+  virtual const Capabilities& capabilities() const = 0;
+  /// Begins operation (simulation: initial state; hardware: enable sequence).
+  virtual bool start(Error& error) = 0;
+
+  virtual Status read(Sensors& sensors) = 0;
+  virtual Status write(const Commands& commands) = 0;
+  virtual Status advance() = 0;
+  /// The message of the last kFault/kOverrun (empty if none).
+  virtual const Error& lastError() const = 0;
+
+  /// Safe stop (hardware: damp then disable). Idempotent.
+  virtual void stop() = 0;
+
+  // Optional: capabilities() says which of these work.
+  virtual bool push(const Push& /*push*/, Error& error) {
+    copyMessage(error, "this backend takes no external pushes");
+    return false;
+  }
+  /// Latest scan, if a new one is ready since the last call.
+  virtual bool lidarScan(PointCloudView& /*scan*/) { return false; }
+
+  /// Helper for implementations: copies a message into an Error, truncating.
+  static void copyMessage(Error& error, const char* text) {
+    std::size_t i = 0;
+    for (; text && text[i] && i + 1 < sizeof(error.message); ++i) error.message[i] = text[i];
+    error.message[i] = '\0';
+  }
+};
+
+/// What a plugin's entry symbol returns. abi_version must stay the first field forever.
+struct BackendEntry {
+  std::uint32_t abi_version;
+  const char* name;
+  const char* description;
+  Backend* (*create)();
+  void (*destroy)(Backend*);
+};
+
+}  // namespace ballast::backend
+
+extern "C" {
+/// Signature of kBackendEntrySymbol.
+typedef const ballast::backend::BackendEntry* (*BallastBackendEntryFn)();
+}
