@@ -6,6 +6,7 @@
 #include "model/centroidal.hpp"
 #include "model/centroidal_dynamics.hpp"
 #include "model/centroidal_dynamics_derivatives.hpp"
+#include "model/frame_derivatives_zyx.hpp"
 #include "model/configuration.hpp"
 #include "model/crba.hpp"
 #include "model/data.hpp"

@@ -53,6 +53,16 @@ Mat3<S> zyxRateToAngularVelocity(const Vec3<S>& zyx) {
   return E;
 }
 
+/// (∂E/∂zyx_k)·rate: how ω = E(zyx)·rate changes with the k-th angle at a fixed rate.
+inline Vec3<double> zyxRateToAngularVelocityDerivative(const Vec3<double>& zyx, int k,
+                                                       const Vec3<double>& rate) {
+  const double cy = std::cos(zyx[0]), sy = std::sin(zyx[0]);
+  const double cp = std::cos(zyx[1]), sp = std::sin(zyx[1]);
+  if (k == 0) return {-cy * rate[1] - sy * cp * rate[2], -sy * rate[1] + cy * cp * rate[2], 0.0};
+  if (k == 1) return {-cy * sp * rate[2], -sy * sp * rate[2], -cp * rate[2]};
+  return Vec3<double>::Zero();  // E does not depend on roll
+}
+
 /// E(zyx)⁻¹·ω in closed form (cos(pitch) ≠ 0).
 template <typename S>
 Vec3<S> angularVelocityToZyxRate(const Vec3<S>& zyx, const Vec3<S>& omega) {

@@ -18,17 +18,6 @@
 
 namespace ballast::model {
 
-namespace detail {
-/// ∂E(zyx)/∂zyx_k · rate.
-inline Vec3<double> zyxMapDerivativeTimes(const Vec3<double>& zyx, int k, const Vec3<double>& rate) {
-  const double cy = std::cos(zyx[0]), sy = std::sin(zyx[0]);
-  const double cp = std::cos(zyx[1]), sp = std::sin(zyx[1]);
-  if (k == 0) return Vec3<double>(-cy * rate[1] - sy * cp * rate[2], -sy * rate[1] + cy * cp * rate[2], 0);
-  if (k == 1) return Vec3<double>(-cy * sp * rate[2], -sy * sp * rate[2], -cp * rate[2]);
-  return Vec3<double>::Zero();
-}
-}  // namespace detail
-
 template <typename X, typename U, typename Xd, typename MA, typename MB>
 void centroidalDynamicsDerivatives(const Model& model, Data<double>& data,
                                    const std::vector<int>& contactFrames,
@@ -126,7 +115,7 @@ void centroidalDynamicsDerivatives(const Model& model, Data<double>& data,
   for (int k = 0; k < 3; ++k) {
     const Vec3<double> e = E.col(k);
     const Motion<double> S{p.cross(e), e};  // rotation about the base origin
-    const Vec3<double> dOmega = detail::zyxMapDerivativeTimes(zyx, k, zyxRate);
+    const Vec3<double> dOmega = zyxRateToAngularVelocityDerivative(zyx, k, zyxRate);
     const Force<double> dhO = crossForce(S, hTotal) - data.oYcrb[0] * S.cross(V0) +
                               data.oYcrb[0] * Motion<double>{p.cross(dOmega), dOmega};
     putConfigurationColumn(L.kBaseZyx + k, dhO, e.cross(c - p));

@@ -29,6 +29,24 @@ inline RandomState randomState(const model::Model& model, std::mt19937& rng) {
   return s;
 }
 
+/// The humanoid standing on flat ground (z = 0): knees bent, feet flat, arms hanging.
+inline model::VecX<double> standingConfiguration(const model::Model& m, double hipPitch = -0.4,
+                                                 double knee = 0.8, double anklePitch = -0.4) {
+  model::VecX<double> q = model::neutralConfiguration(m);
+  for (const char* side : {"left_", "right_"}) {
+    q[model::Model::qIndexOfJoint(m.jointId(std::string(side) + "hip_pitch"))] = hipPitch;
+    q[model::Model::qIndexOfJoint(m.jointId(std::string(side) + "knee"))] = knee;
+    q[model::Model::qIndexOfJoint(m.jointId(std::string(side) + "ankle_pitch"))] = anklePitch;
+  }
+  model::Data<double> d(m);
+  model::forwardKinematics(m, d, q);
+  double lowest = 1e9;
+  for (const char* f : {"left_toe", "left_heel", "right_toe", "right_heel"})
+    lowest = std::min(lowest, model::framePlacement(m, d, m.frameId(f)).p.z());
+  q[2] = -lowest;
+  return q;
+}
+
 /// Central difference of f along t = 0 (f returns an Eigen vector).
 template <typename F>
 auto centralDifference(F&& f, double h = 1e-6) {

@@ -135,6 +135,14 @@ TEST_F(Algorithms, ZyxConventions) {
     const Vec3<double> omega = zyxRateToAngularVelocity(zyx) * rate;
     EXPECT_LT((Vec3<double>(W(2, 1), W(0, 2), W(1, 0)) - omega).norm(), 1e-8);
     EXPECT_LT((angularVelocityToZyxRate(zyx, omega) - rate).norm(), 1e-10);
+    for (int k = 0; k < 3; ++k) {
+      const Vec3<double> dE = centralDifference([&](double t) {
+        Vec3<double> z = zyx;
+        z[k] += t;
+        return Vec3<double>(zyxRateToAngularVelocity(z) * rate);
+      });
+      EXPECT_LT((zyxRateToAngularVelocityDerivative(zyx, k, rate) - dE).norm(), 1e-8);
+    }
     const Vec3<double> rpy = rpyFromRotation(R);
     EXPECT_NEAR(rpy[0], zyx[2], 1e-12);
     EXPECT_NEAR(rpy[2], zyx[0], 1e-12);

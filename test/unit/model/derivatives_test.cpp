@@ -148,5 +148,42 @@ TEST_F(Derivatives, CentroidalDynamicsJacobians) {
   }
 }
 
+TEST_F(Derivatives, FramePositionAndVelocityInPlannerCoordinates) {
+  const CentroidalLayout L{m.nj(), 4};
+  std::normal_distribution<double> n(0, 1);
+  const int frames[] = {m.frameId("left_toe"), m.frameId("right_heel"), m.frameId("left_hand"),
+                        m.frameId("pelvis")};
+  for (int k = 0; k < 10; ++k) {
+    const VecX<double> xq = randomZyxConfiguration();
+    VecX<double> z(L.nx() + L.nu());
+    z << VecX<double>::NullaryExpr(6, [&] { return 10 * n(rng); }), xq,
+        VecX<double>::NullaryExpr(12, [&] { return 150 * n(rng); }),
+        VecX<double>::NullaryExpr(m.nj(), [&] { return n(rng); });
+    for (int f : frames) {
+      // Position and velocity as plain functions of z, for finite differences.
+      auto value = [&](const VecX<double>& zz) {
+        VecX<double> xdot(L.nx()), out(6);
+        MatX<double> Ax(L.nx(), L.nx()), Bu(L.nx(), L.nu());
+        centroidalDynamicsDerivatives(m, data, contacts, zz.head(L.nx()), zz.tail(L.nu()), xdot, Ax, Bu);
+        FrameKinematicsZyx fk(L.nx(), L.nu());
+        frameKinematicsZyx(m, data, f, zz.head(L.nx()), Ax, Bu, fk);
+        out << fk.position, fk.velocity;
+        return out;
+      };
+      VecX<double> xdot(L.nx());
+      MatX<double> Ax(L.nx(), L.nx()), Bu(L.nx(), L.nu());
+      centroidalDynamicsDerivatives(m, data, contacts, z.head(L.nx()), z.tail(L.nu()), xdot, Ax, Bu);
+      FrameKinematicsZyx fk(L.nx(), L.nu());
+      frameKinematicsZyx(m, data, f, z.head(L.nx()), Ax, Bu, fk);
+      // The velocity is the time derivative of the position along ẋ = f(x, u).
+      EXPECT_LT((fk.velocity - fk.dPosition_dx * xdot).norm(), 1e-9 * std::max(1.0, fk.velocity.norm()));
+      const MatX<double> Jfd = finiteDifferenceJacobian(value, z, 6);
+      MatX<double> Jan(6, z.size());
+      Jan << fk.dPosition_dx, MatX<double>::Zero(3, L.nu()), fk.dVelocity_dx, fk.dVelocity_du;
+      EXPECT_TRUE(jacobiansAgree(Jan, Jfd)) << m.frames[f].name;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace ballast::test

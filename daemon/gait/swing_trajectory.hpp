@@ -1,0 +1,57 @@
+// Cubic swing trajectory of one contact point between lift-off and touch-down.
+//
+// Horizontal: a cubic from the lift-off to the touch-down position with zero velocity at both
+// ends. Vertical: two cubics, lift-off height -> apex at mid-swing -> touch-down height, each
+// with zero vertical velocity at its ends, so the point leaves and lands vertically at rest.
+// All positions are world coordinates; velocity and acceleration are d/dt and d²/dt².
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+
+namespace ballast::gait {
+
+struct PointReference {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  Eigen::Vector3d acceleration = Eigen::Vector3d::Zero();
+};
+
+/// s(τ) = 3τ² − 2τ³ and its first two derivatives in τ.
+struct SmoothStep {
+  double s, ds, dds;
+  explicit SmoothStep(double tau)
+      : s(tau * tau * (3.0 - 2.0 * tau)), ds(6.0 * tau * (1.0 - tau)), dds(6.0 - 12.0 * tau) {}
+};
+
+struct SwingTrajectory {
+  double liftOff = 0.0;
+  double touchDown = 1.0;
+  Eigen::Vector3d liftOffPosition = Eigen::Vector3d::Zero();
+  Eigen::Vector3d touchDownPosition = Eigen::Vector3d::Zero();
+  double apexHeight = 0.1;  ///< world z at mid-swing
+
+  /// Reference at time t (clamped to [liftOff, touchDown]).
+  PointReference at(double t) const {
+    const double duration = touchDown - liftOff;
+    const double tau = std::clamp((t - liftOff) / duration, 0.0, 1.0);
+    PointReference r;
+    const SmoothStep h(tau);
+    const Eigen::Vector3d delta = touchDownPosition - liftOffPosition;
+    r.position = liftOffPosition + delta * h.s;
+    r.velocity = delta * (h.ds / duration);
+    r.acceleration = delta * (h.dds / (duration * duration));
+    // Vertical: two halves through the apex; time runs twice as fast in each half.
+    const bool rising = tau < 0.5;
+    const double z0 = rising ? liftOffPosition.z() : apexHeight;
+    const double z1 = rising ? apexHeight : touchDownPosition.z();
+    const SmoothStep v(rising ? 2.0 * tau : 2.0 * tau - 1.0);
+    const double half = 0.5 * duration;
+    r.position.z() = z0 + (z1 - z0) * v.s;
+    r.velocity.z() = (z1 - z0) * v.ds / half;
+    r.acceleration.z() = (z1 - z0) * v.dds / (half * half);
+    return r;
+  }
+};
+
+}  // namespace ballast::gait

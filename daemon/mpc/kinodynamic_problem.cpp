@@ -1,0 +1,199 @@
+#include "mpc/kinodynamic_problem.hpp"
+
+#include <cmath>
+
+#include "model/centroidal_dynamics_derivatives.hpp"
+
+namespace ballast::mpc {
+
+using model::CentroidalLayout;
+
+NodeWorkspace::NodeWorkspace(const KinodynamicProblem& problem)
+    : data(problem.model()),
+      xdot(problem.nx()),
+      Ax(problem.nx(), problem.nx()),
+      Bu(problem.nx(), problem.nu()),
+      contacts(kNumContacts, model::FrameKinematicsZyx(problem.nx(), problem.nu())) {}
+
+KinodynamicProblem::KinodynamicProblem(const model::Model& model,
+                                       const std::array<int, kNumContacts>& contactFrames,
+                                       const ProblemSettings& settings)
+    : model_(model),
+      contactFrames_(contactFrames.begin(), contactFrames.end()),
+      settings_(settings),
+      nx_(CentroidalLayout{model.nj(), kNumContacts}.nx()),
+      nu_(CentroidalLayout{model.nj(), kNumContacts}.nu()) {}
+
+Eigen::VectorXd KinodynamicProblem::stateError(const Eigen::VectorXd& x,
+                                               const Eigen::VectorXd& xRef) const {
+  Eigen::VectorXd e = x - xRef;
+  for (int k = 0; k < 3; ++k) {
+    double& a = e[CentroidalLayout::kBaseZyx + k];
+    a = std::remainder(a, 2.0 * M_PI);
+  }
+  return e;
+}
+
+void KinodynamicProblem::evaluate(ProblemWorkspace& ws, const NodeReference& ref,
+                                  const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt,
+                                  NodeValue& value) const {
+  compute(static_cast<NodeWorkspace&>(ws), ref, x, u, dt, nullptr, value);
+}
+
+void KinodynamicProblem::linearize(ProblemWorkspace& ws, const NodeReference& ref,
+                                   const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt,
+                                   LqNode& node, NodeValue& value) const {
+  compute(static_cast<NodeWorkspace&>(ws), ref, x, u, dt, &node, value);
+}
+
+void KinodynamicProblem::adaptInputToMode(const NodeReference& ref, const StanceFlags& before,
+                                          Eigen::VectorXd& u) const {
+  for (int c = 0; c < kNumContacts; ++c) {
+    if (ref.stance[c] == before[c]) continue;
+    const int i = CentroidalLayout::force(c);
+    u.segment<3>(i) = ref.stance[c] ? Eigen::Vector3d(ref.u.segment<3>(i)) : Eigen::Vector3d::Zero();
+  }
+}
+
+void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
+                                 const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt,
+                                 LqNode* node, NodeValue& value) const {
+  const CentroidalLayout L{model_.nj(), kNumContacts};
+  const ProblemSettings& s = settings_;
+  model::centroidalDynamicsDerivatives(model_, ws.data, contactFrames_, x, u, ws.xdot, ws.Ax, ws.Bu);
+  for (int c = 0; c < kNumContacts; ++c)
+    model::frameKinematicsZyx(model_, ws.data, contactFrames_[c], x, ws.Ax, ws.Bu, ws.contacts[c]);
+  value.xdot = ws.xdot;
+
+  // Equalities: contact-point velocities (5 per foot) and swing forces.
+  double eq2 = 0.0;
+  int row = 0;
+  auto putRows = [&](const auto& projection, const Eigen::Vector3d& residual,
+                     const model::Mat3X<double>& dx, const model::Mat3X<double>& du) {
+    const int n = static_cast<int>(projection.rows());
+    const Eigen::VectorXd g = projection * residual;
+    eq2 += g.squaredNorm();
+    if (node) {
+      node->e.segment(row, n) = g;
+      node->C.middleRows(row, n).noalias() = projection * dx;
+      node->D.middleRows(row, n).noalias() = projection * du;
+    }
+    row += n;
+  };
+  for (int foot = 0; foot < 2; ++foot) {
+    const int toe = 2 * foot, heel = 2 * foot + 1;
+    // The heel drops the world axis along which the toe-heel direction is largest: what rigidity
+    // already fixes. A constant selection keeps the Jacobian exact.
+    Eigen::Index dropped;
+    (ws.contacts[toe].position - ws.contacts[heel].position).cwiseAbs().maxCoeff(&dropped);
+    Eigen::Matrix<double, 2, 3> across = Eigen::Matrix<double, 2, 3>::Zero();
+    across(0, (dropped + 1) % 3) = 1.0;
+    across(1, (dropped + 2) % 3) = 1.0;
+    for (int c : {toe, heel}) {
+      const model::FrameKinematicsZyx& k = ws.contacts[c];
+      Eigen::Vector3d residual = k.velocity;
+      model::Mat3X<double> dx = k.dVelocity_dx;
+      if (!ref.stance[c]) {  // v − (ṗ* + k_p (p* − p))
+        residual -= ref.swingVelocity[c] + s.swingPositionGain * (ref.swingPosition[c] - k.position);
+        dx += s.swingPositionGain * k.dPosition_dx;
+      }
+      if (c == toe)
+        putRows(Eigen::Matrix3d::Identity(), residual, dx, k.dVelocity_du);
+      else
+        putRows(across, residual, dx, k.dVelocity_du);
+    }
+  }
+  for (int c = 0; c < kNumContacts; ++c) {
+    if (ref.stance[c]) continue;
+    const Eigen::Vector3d f = u.segment<3>(L.force(c));
+    eq2 += f.squaredNorm();
+    if (node) {
+      node->e.segment<3>(row) = f;
+      node->C.middleRows<3>(row).setZero();
+      node->D.middleRows<3>(row).setZero();
+      node->D.block<3, 3>(row, L.force(c)).setIdentity();
+    }
+    row += 3;
+  }
+  value.equalityNorm2 = eq2;
+
+  // Cost, integrated over the stage: tracking, then barriers.
+  const Eigen::VectorXd ex = stateError(x, ref.x);
+  const Eigen::VectorXd eu = u - ref.u;
+  double cost = 0.5 * dt * (ex.dot(s.stateWeights.cwiseProduct(ex)) + eu.dot(s.inputWeights.cwiseProduct(eu)));
+  if (node) {
+    node->neq = row;
+    node->A.setIdentity();
+    node->A.noalias() += dt * ws.Ax;
+    node->B.noalias() = dt * ws.Bu;
+    node->Q = (dt * s.stateWeights).asDiagonal();
+    node->R = (dt * s.inputWeights).asDiagonal();
+    node->S.setZero();
+    node->q = dt * s.stateWeights.cwiseProduct(ex);
+    node->r = dt * s.inputWeights.cwiseProduct(eu);
+  }
+  // Stance points: friction cone and normal force bounds, on the point's 3 force entries.
+  for (int c = 0; c < kNumContacts; ++c) {
+    if (!ref.stance[c]) continue;
+    const int i = L.force(c);
+    const Eigen::Vector3d f = u.segment<3>(i);
+    const RelaxedBarrier& b = s.frictionBarrier;
+    auto barrier = [&](double h, const Eigen::Vector3d& grad) {  // h(f) ≥ 0, ∇h = grad
+      cost += dt * b.value(h);
+      if (!node) return;
+      node->r.segment<3>(i) += dt * b.firstDerivative(h) * grad;
+      node->R.block<3, 3>(i, i).noalias() += dt * b.secondDerivative(h) * grad * grad.transpose();
+    };
+    const double tangential = std::sqrt(f.x() * f.x() + f.y() * f.y() + s.frictionRegularization);
+    barrier(s.frictionCoefficient * f.z() - tangential,
+            Eigen::Vector3d(-f.x() / tangential, -f.y() / tangential, s.frictionCoefficient));
+    barrier(f.z() - s.minNormalForce, Eigen::Vector3d::UnitZ());
+    barrier(s.maxNormalForce - f.z(), -Eigen::Vector3d::UnitZ());
+  }
+  // Joint position and velocity limits: each a scalar bound on one entry.
+  auto bound = [&](double h, double sign, int index, bool onState) {
+    const RelaxedBarrier& b = s.limitBarrier;
+    cost += dt * b.value(h);
+    if (!node) return;
+    (onState ? node->q[index] : node->r[index]) += dt * b.firstDerivative(h) * sign;
+    (onState ? node->Q(index, index) : node->R(index, index)) += dt * b.secondDerivative(h);
+  };
+  for (int j = 0; j < model_.nj(); ++j) {
+    const double qj = x[L.kJoints + j];
+    const double lo = model_.lowerPositionLimit[j] + s.jointLimitMargin;
+    const double hi = model_.upperPositionLimit[j] - s.jointLimitMargin;
+    if (std::isfinite(lo)) bound(qj - lo, 1.0, L.kJoints + j, true);
+    if (std::isfinite(hi)) bound(hi - qj, -1.0, L.kJoints + j, true);
+    const double vj = u[L.jointVelocity() + j];
+    const double vmax = model_.velocityLimit[j];
+    bound(vmax - vj, -1.0, L.jointVelocity() + j, false);
+    bound(vj + vmax, 1.0, L.jointVelocity() + j, false);
+  }
+  // Feet distance (eq. collsion): toe–toe and heel–heel.
+  for (int pair = 0; pair < 2; ++pair) {
+    const model::FrameKinematicsZyx& a = ws.contacts[pair];
+    const model::FrameKinematicsZyx& b = ws.contacts[pair + 2];
+    const Eigen::Vector3d diff = a.position - b.position;
+    const double h = diff.squaredNorm() - s.minFeetDistance * s.minFeetDistance;
+    cost += dt * s.collisionBarrier.value(h);
+    if (!node) continue;
+    const Eigen::RowVectorXd grad = 2.0 * diff.transpose() * (a.dPosition_dx - b.dPosition_dx);
+    node->q += dt * s.collisionBarrier.firstDerivative(h) * grad.transpose();
+    node->Q.noalias() += dt * s.collisionBarrier.secondDerivative(h) * grad.transpose() * grad;
+  }
+  value.cost = cost;
+}
+
+double KinodynamicProblem::terminalCost(const NodeReference& ref, const Eigen::VectorXd& x,
+                                        LqNode* node) const {
+  const Eigen::VectorXd e = stateError(x, ref.x);
+  const Eigen::VectorXd w = settings_.terminalWeightScale * settings_.stateWeights;
+  if (node) {
+    node->setZero();
+    node->Q = w.asDiagonal();
+    node->q = w.cwiseProduct(e);
+  }
+  return 0.5 * e.dot(w.cwiseProduct(e));
+}
+
+}  // namespace ballast::mpc

@@ -1,0 +1,99 @@
+// The kino-dynamic optimal control problem of the paper's Sec. II-A, one node at a time.
+//
+// State and input (model/centroidal_dynamics.hpp):
+//   x = [h_com (6), p_b (3), zyx_b (3), q_j (nj)],   u = [f_c1..f_c4 (12, world), v_j (nj)]
+// Contact points, in this order: left toe, left heel, right toe, right heel.
+//
+// Equalities (projected out by the solver), per foot:
+//   stance point:  contact velocity = 0
+//   swing point:   force = 0, and velocity = ṗ*(t) + k_p (p*(t) − p)   — the paper's
+//                  p = p*, ṗ = ṗ* as one velocity-level condition, so that it can be projected
+//                  out like the stance one and still pulls the point onto its trajectory.
+//   Toe and heel of one foot are one rigid body: (v_toe − v_heel)·d = 0 always holds along the
+//   toe-heel direction d, so the heel's condition keeps only two components: it drops the world
+//   axis along which d is largest (the rows stay independent, the Jacobian exact).
+// Inequalities, as relaxed-barrier costs (eq. rbf): friction cone μ f_z ≥ sqrt(f_x² + f_y² + ε²)
+// and f_min ≤ f_z ≤ f_max on stance points, joint position and velocity limits, and the feet
+// distance ‖p_left − p_right‖² ≥ d_min² for toe–toe and heel–heel (eq. collsion).
+// Cost: ½‖x − x_ref‖²_Q + ½‖u − u_ref‖²_R + barriers (Gauss-Newton Hessians), the yaw error
+// wrapped to (−π, π]. The discrete dynamics are explicit Euler: x⁺ = x + dt f(x, u).
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "model/data.hpp"
+#include "model/frame_derivatives_zyx.hpp"
+#include "mpc/optimal_control_problem.hpp"
+#include "mpc/relaxed_barrier.hpp"
+
+namespace ballast::mpc {
+
+struct ProblemSettings {
+  Eigen::VectorXd stateWeights;      ///< diag(Q), nx
+  Eigen::VectorXd inputWeights;      ///< diag(R), nu
+  double terminalWeightScale = 5.0;  ///< Q_N = scale · Q
+  double frictionCoefficient = 0.6;  ///< μ
+  double frictionRegularization = 1.0;  ///< ε² in the cone, N²
+  double minNormalForce = 0.0;       ///< N
+  double maxNormalForce = 1000.0;    ///< N
+  double minFeetDistance = 0.12;     ///< m
+  double jointLimitMargin = 0.05;    ///< rad kept from each URDF limit
+  double swingPositionGain = 20.0;   ///< k_p of the swing velocity condition, 1/s
+  RelaxedBarrier frictionBarrier{0.1, 5.0};  ///< on force terms (N)
+  RelaxedBarrier limitBarrier{0.1, 0.02};    ///< on joint limits (rad, rad/s)
+  RelaxedBarrier collisionBarrier{0.1, 0.005};  ///< on squared distance (m²)
+};
+
+class KinodynamicProblem;
+
+/// Per-thread scratch for evaluating nodes.
+struct NodeWorkspace : ProblemWorkspace {
+  explicit NodeWorkspace(const KinodynamicProblem& problem);
+  model::Data<double> data;
+  Eigen::VectorXd xdot;
+  Eigen::MatrixXd Ax, Bu;
+  std::vector<model::FrameKinematicsZyx> contacts;
+};
+
+class KinodynamicProblem final : public OptimalControlProblem {
+ public:
+  /// contactFrames: model frame indices of left toe, left heel, right toe, right heel.
+  KinodynamicProblem(const model::Model& model, const std::array<int, kNumContacts>& contactFrames,
+                     const ProblemSettings& settings);
+
+  int nx() const override { return nx_; }
+  int nu() const override { return nu_; }
+  int maxEqualities() const override { return 2 * 5 + 3 * kNumContacts; }
+  std::unique_ptr<ProblemWorkspace> makeWorkspace() const override {
+    return std::make_unique<NodeWorkspace>(*this);
+  }
+  const model::Model& model() const { return model_; }
+  const std::vector<int>& contactFrames() const { return contactFrames_; }
+  const ProblemSettings& settings() const { return settings_; }
+  void setSettings(const ProblemSettings& s) { settings_ = s; }
+
+  void evaluate(ProblemWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
+                const Eigen::VectorXd& u, double dt, NodeValue& value) const override;
+  void linearize(ProblemWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
+                 const Eigen::VectorXd& u, double dt, LqNode& node, NodeValue& value) const override;
+  double terminalCost(const NodeReference& ref, const Eigen::VectorXd& x,
+                      LqNode* node) const override;
+  /// Zero force on a point that became a swing, the reference force on a new stance.
+  void adaptInputToMode(const NodeReference& ref, const StanceFlags& before,
+                        Eigen::VectorXd& u) const override;
+
+  /// x − x_ref with the yaw difference wrapped.
+  Eigen::VectorXd stateError(const Eigen::VectorXd& x, const Eigen::VectorXd& xRef) const;
+
+ private:
+  void compute(NodeWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
+               const Eigen::VectorXd& u, double dt, LqNode* node, NodeValue& value) const;
+
+  const model::Model& model_;
+  std::vector<int> contactFrames_;
+  ProblemSettings settings_;
+  int nx_, nu_;
+};
+
+}  // namespace ballast::mpc

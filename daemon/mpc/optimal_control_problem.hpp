@@ -1,0 +1,61 @@
+// What the SQP solver needs from a problem: node values and linearisations, and the terminal
+// cost. KinodynamicProblem is the paper's; tests use small linear ones.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <memory>
+
+#include "mpc/lq_problem.hpp"
+
+namespace ballast::mpc {
+
+inline constexpr int kNumContacts = 4;
+/// Closed (stance) or open (swing) per contact point: left toe, left heel, right toe, right heel.
+using StanceFlags = std::array<bool, kNumContacts>;
+
+/// What a node is asked to do: its contact mode and references.
+struct NodeReference {
+  StanceFlags stance{true, true, true, true};
+  std::array<Eigen::Vector3d, kNumContacts> swingPosition{};  ///< p*(t), swing points only
+  std::array<Eigen::Vector3d, kNumContacts> swingVelocity{};  ///< ṗ*(t)
+  Eigen::VectorXd x, u;  ///< x_ref, u_ref
+};
+
+/// A node's nonlinear value, for the line search.
+struct NodeValue {
+  Eigen::VectorXd xdot;        ///< f(x, u)
+  double cost = 0.0;           ///< stage cost, integrated over the node's dt
+  double equalityNorm2 = 0.0;  ///< ‖g(x, u)‖²
+};
+
+/// Per-thread scratch a problem needs to evaluate nodes.
+struct ProblemWorkspace {
+  virtual ~ProblemWorkspace() = default;
+};
+
+class OptimalControlProblem {
+ public:
+  virtual ~OptimalControlProblem() = default;
+  virtual int nx() const = 0;
+  virtual int nu() const = 0;
+  virtual int maxEqualities() const = 0;
+  virtual std::unique_ptr<ProblemWorkspace> makeWorkspace() const = 0;
+
+  /// Value of a stage node of duration dt; dynamics ẋ = f(x, u) (explicit Euler between nodes).
+  virtual void evaluate(ProblemWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
+                        const Eigen::VectorXd& u, double dt, NodeValue& value) const = 0;
+  /// Stage node linearised: A = I + dt ∂f/∂x, B = dt ∂f/∂u, equalities, quadratic cost model.
+  /// node.b is left for the caller. Also returns the value.
+  virtual void linearize(ProblemWorkspace& ws, const NodeReference& ref,
+                         const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt,
+                         LqNode& node, NodeValue& value) const = 0;
+  /// Terminal cost, and its quadratic model in node.Q, node.q if node is given.
+  virtual double terminalCost(const NodeReference& ref, const Eigen::VectorXd& x,
+                              LqNode* node) const = 0;
+  /// Warm start across a mode change: make u fit ref.stance where it differs from `before`.
+  virtual void adaptInputToMode(const NodeReference& /*ref*/, const StanceFlags& /*before*/,
+                                Eigen::VectorXd& /*u*/) const {}
+};
+
+}  // namespace ballast::mpc

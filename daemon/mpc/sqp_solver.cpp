@@ -1,0 +1,182 @@
+#include "mpc/sqp_solver.hpp"
+
+#include <chrono>
+#include <cmath>
+
+
+namespace ballast::mpc {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+bool finite(const std::vector<Eigen::VectorXd>& v) {
+  for (const auto& x : v)
+    if (!x.allFinite()) return false;
+  return true;
+}
+
+}  // namespace
+
+SqpSolver::SqpSolver(const OptimalControlProblem& problem, const SqpSettings& settings)
+    : problem_(problem),
+      settings_(settings),
+      pool_(std::max(1, settings.threads)),
+      riccati_(settings.nodes, problem.nx(), problem.nu(), problem.maxEqualities()),
+      references_(settings.nodes + 1),
+      lq_(settings.nodes + 1, LqNode(problem.nx(), problem.nu(), problem.maxEqualities())),
+      values_(settings.nodes),
+      x_(settings.nodes + 1, Eigen::VectorXd::Zero(problem.nx())),
+      u_(settings.nodes, Eigen::VectorXd::Zero(problem.nu())),
+      xTrial_(x_),
+      uTrial_(u_),
+      nodeCost_(settings.nodes + 1),
+      nodeViolation2_(settings.nodes + 1),
+      projected_(settings.nodes) {
+  for (int t = 0; t < pool_.threads(); ++t)
+    workspaces_.push_back(problem.makeWorkspace());
+  for (auto& r : references_) {
+    r.x = Eigen::VectorXd::Zero(problem.nx());
+    r.u = Eigen::VectorXd::Zero(problem.nu());
+  }
+}
+
+bool SqpSolver::fail(const std::string& why) {
+  stats_.ok = false;
+  stats_.step = 0.0;
+  stats_.message = why;
+  return false;
+}
+
+void SqpSolver::warmStart(double t0, const Eigen::VectorXd& xMeasured) {
+  const int N = settings_.nodes;
+  if (!hasSolution_) {
+    for (int k = 0; k <= N; ++k) x_[k] = xMeasured;
+    for (int k = 0; k < N; ++k) u_[k] = references_[k].u;
+    return;
+  }
+  const MpcSolution& prev = solution_;
+  Eigen::VectorXd xs(problem_.nx()), us(problem_.nu());
+  for (int k = 0; k <= N; ++k) {
+    StanceFlags prevMode;
+    prev.sample(t0 + k * settings_.dt, xs, us, &prevMode);
+    x_[k] = xs;
+    if (k == N) break;
+    u_[k] = us;
+    problem_.adaptInputToMode(references_[k], prevMode, u_[k]);
+  }
+  x_[0] = xMeasured;
+}
+
+SqpSolver::Merit SqpSolver::evaluate(const std::vector<Eigen::VectorXd>& x,
+                                     const std::vector<Eigen::VectorXd>& u) {
+  const int N = settings_.nodes;
+  const double dt = settings_.dt;
+  auto body = [&](int k, int thread) {
+    if (k == N) {
+      nodeCost_[N] = problem_.terminalCost(references_[N], x[N], nullptr);
+      nodeViolation2_[N] = 0.0;
+      return;
+    }
+    NodeValue v;
+    problem_.evaluate(*workspaces_[thread], references_[k], x[k], u[k], dt, v);
+    nodeCost_[k] = v.cost;
+    nodeViolation2_[k] = v.equalityNorm2 + (x[k] + dt * v.xdot - x[k + 1]).squaredNorm();
+  };
+  pool_.run(N + 1, body);
+  Merit m;
+  for (int k = 0; k <= N; ++k) {
+    m.cost += nodeCost_[k];
+    m.violation += nodeViolation2_[k];
+  }
+  m.violation = std::sqrt(m.violation);
+  return m;
+}
+
+bool SqpSolver::iterate(double t0, const Eigen::VectorXd& xMeasured) {
+  const auto start = Clock::now();
+  const int N = settings_.nodes;
+  const double dt = settings_.dt;
+  stats_ = SqpStatistics{};
+  if (!xMeasured.allFinite()) return fail("the measured state has a NaN or infinite entry");
+  warmStart(t0, xMeasured);
+
+  // Linearise and project every node (in parallel), then the terminal cost.
+  auto t = Clock::now();
+  auto linearize = [&](int k, int thread) {
+    problem_.linearize(*workspaces_[thread], references_[k], x_[k], u_[k], dt, lq_[k], values_[k]);
+    lq_[k].b = x_[k] + dt * values_[k].xdot - x_[k + 1];
+    projected_[k] = riccati_.project(k, lq_[k]);
+  };
+  pool_.run(N, linearize);
+  const double terminal = problem_.terminalCost(references_[N], x_[N], &lq_[N]);
+  stats_.linearizeMs = msSince(t);
+  Merit current{terminal, 0.0};
+  for (int k = 0; k < N; ++k) {
+    if (!projected_[k])
+      return fail("rank-deficient contact constraints at node " + std::to_string(k) +
+                  " (a leg at a singular posture?)");
+    current.cost += values_[k].cost;
+    current.violation += values_[k].equalityNorm2 + lq_[k].b.squaredNorm();
+  }
+  current.violation = std::sqrt(current.violation);
+
+  // LQ subproblem.
+  if (!riccati_.sweep(lq_, Eigen::VectorXd::Zero(problem_.nx()), dx_, du_))
+    return fail("the projected cost Hessian is not positive definite");
+  stats_.riccatiMs = riccati_.timings().riccatiMs;
+  if (!finite(dx_) || !finite(du_)) return fail("the LQ step has NaN or infinite entries");
+
+  // Filter line search.
+  t = Clock::now();
+  double slope = 0.0;  // first-order cost change along the step
+  for (int k = 0; k < N; ++k) slope += lq_[k].q.dot(dx_[k]) + lq_[k].r.dot(du_[k]);
+  slope += lq_[N].q.dot(dx_[N]);
+  const SqpSettings& s = settings_;
+  double alpha = 1.0;
+  Merit trial;
+  bool accepted = false;
+  for (; alpha >= s.minStep; alpha *= s.stepDecay) {
+    for (int k = 0; k <= N; ++k) xTrial_[k] = x_[k] + alpha * dx_[k];
+    for (int k = 0; k < N; ++k) uTrial_[k] = u_[k] + alpha * du_[k];
+    trial = evaluate(xTrial_, uTrial_);
+    if (!std::isfinite(trial.cost) || !std::isfinite(trial.violation)) continue;
+    if (current.violation > s.constraintLarge) {
+      accepted = trial.violation < (1.0 - s.filterMargin) * current.violation;
+    } else if (std::max(trial.violation, current.violation) < s.constraintSmall) {
+      accepted = trial.cost < current.cost + s.armijo * alpha * std::min(slope, 0.0);
+    } else {
+      accepted = trial.cost < current.cost - s.filterMargin * current.violation ||
+                 trial.violation < (1.0 - s.filterMargin) * current.violation;
+    }
+    if (accepted) break;
+  }
+  stats_.lineSearchMs = msSince(t);
+  if (!accepted) {
+    stats_.totalMs = msSince(start);
+    // Feasible and no step lowers the cost: converged, the iterate itself is the answer.
+    if (current.violation >= s.constraintSmall)
+      return fail("no step along the SQP direction reduced cost or constraint violation");
+    alpha = 0.0;
+    trial = current;
+  } else {
+    std::swap(x_, xTrial_);
+    std::swap(u_, uTrial_);
+  }
+  solution_.t0 = t0;
+  solution_.dt = dt;
+  solution_.x = x_;
+  solution_.u = u_;
+  solution_.stance.resize(N + 1);
+  for (int k = 0; k <= N; ++k) solution_.stance[k] = references_[k].stance;
+  hasSolution_ = true;
+  stats_.cost = trial.cost;
+  stats_.violation = trial.violation;
+  stats_.step = alpha;
+  stats_.ok = true;
+  stats_.totalMs = msSince(start);
+  return true;
+}
+
+}  // namespace ballast::mpc

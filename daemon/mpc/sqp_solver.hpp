@@ -1,0 +1,96 @@
+// Multiple-shooting Gauss-Newton SQP for an optimal control problem (the kino-dynamic one of
+// kinodynamic_problem.hpp), one real-time iteration per call (the paper solves it with OCS2's
+// SQP at ~100 Hz; this is ours, on Eigen).
+//
+// iterate(t0, x̂):
+//   1. warm start: the previous solution shifted to the new grid t0 + k·dt (inputs of contact
+//      points whose mode changed are reset: zero force on a new swing, the reference force on a
+//      new stance); the first node is set to the measured state x̂;
+//   2. linearise every node and project out its equalities, spread over `threads` cores;
+//   3. solve the LQ subproblem with a Riccati sweep (riccati_solver.hpp);
+//   4. line search on cost and constraint violation (a filter as in OCS2's SQP): accept the
+//      largest step 1, ½, ¼, … that lowers the violation, or the cost while the violation
+//      stays small;
+//   5. keep the result — or, on failure (rank-deficient constraints, indefinite Hessian, NaN,
+//      no acceptable step from an infeasible iterate), keep the previous solution and report
+//      why. A feasible iterate that no step improves is converged: kept, with step 0.
+// The caller fills references() for the N+1 node times before each call.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mpc/optimal_control_problem.hpp"
+#include "mpc/parallel_for.hpp"
+#include "mpc/riccati_solver.hpp"
+#include "mpc/solution.hpp"
+
+namespace ballast::mpc {
+
+struct SqpSettings {
+  int nodes = 50;       ///< N; horizon = N·dt
+  double dt = 0.02;     ///< s
+  int threads = 2;      ///< cores used for linearisation and projection
+  double stepDecay = 0.5;
+  double minStep = 1e-3;
+  double constraintLarge = 1e-2;   ///< above: a step must reduce the violation (OCS2 g_max)
+  double constraintSmall = 1e-6;   ///< below: a step must reduce the cost (OCS2 g_min)
+  double armijo = 1e-4;
+  double filterMargin = 1e-6;      ///< γ_c
+};
+
+struct SqpStatistics {
+  double linearizeMs = 0.0;    ///< nodes linearised and projected (parallel)
+  double riccatiMs = 0.0;
+  double lineSearchMs = 0.0;
+  double totalMs = 0.0;
+  double cost = 0.0;           ///< after the step
+  double violation = 0.0;      ///< sqrt(Σ‖defects‖² + Σ‖equalities‖²) after the step
+  double step = 0.0;           ///< accepted step length, 0 if none
+  bool ok = false;
+  std::string message;         ///< why an iteration failed
+};
+
+class SqpSolver {
+ public:
+  SqpSolver(const OptimalControlProblem& problem, const SqpSettings& settings);
+
+  const SqpSettings& settings() const { return settings_; }
+  /// Node references for t0 + k·dt, k = 0..N; filled by the caller before iterate().
+  std::vector<NodeReference>& references() { return references_; }
+
+  /// One SQP iteration from the measured state at time t0. Returns statistics().ok.
+  bool iterate(double t0, const Eigen::VectorXd& xMeasured);
+  /// Forgets the previous solution (next iterate starts from the references).
+  void reset() { hasSolution_ = false; }
+
+  const MpcSolution& solution() const { return solution_; }
+  const SqpStatistics& statistics() const { return stats_; }
+
+ private:
+  struct Merit {
+    double cost = 0.0;
+    double violation = 0.0;
+  };
+  void warmStart(double t0, const Eigen::VectorXd& xMeasured);
+  Merit evaluate(const std::vector<Eigen::VectorXd>& x, const std::vector<Eigen::VectorXd>& u);
+  bool fail(const std::string& why);
+
+  const OptimalControlProblem& problem_;
+  SqpSettings settings_;
+  ParallelFor pool_;
+  std::vector<std::unique_ptr<ProblemWorkspace>> workspaces_;  ///< one per thread
+  RiccatiSolver riccati_;
+  std::vector<NodeReference> references_;
+  std::vector<LqNode> lq_;
+  std::vector<NodeValue> values_;
+  std::vector<Eigen::VectorXd> x_, u_, xTrial_, uTrial_, dx_, du_;
+  std::vector<double> nodeCost_, nodeViolation2_;
+  std::vector<char> projected_;
+  MpcSolution solution_;
+  bool hasSolution_ = false;
+  SqpStatistics stats_;
+};
+
+}  // namespace ballast::mpc

@@ -1,0 +1,66 @@
+// The relaxed barrier, and the projected Riccati solver against a direct KKT solve.
+#include <gtest/gtest.h>
+
+#include "mpc/relaxed_barrier.hpp"
+#include "mpc/riccati_solver.hpp"
+#include "test/unit/mpc/lq_test_problems.hpp"
+
+namespace ballast::mpc {
+namespace {
+
+TEST(RelaxedBarrier, IsTheLogBarrierAboveDeltaAndC2AcrossIt) {
+  const RelaxedBarrier b{0.3, 0.05};
+  for (double h : {0.05, 0.1, 1.0, 7.0}) {
+    EXPECT_DOUBLE_EQ(b.value(h), -0.3 * std::log(h));
+    EXPECT_DOUBLE_EQ(b.firstDerivative(h), -0.3 / h);
+    EXPECT_DOUBLE_EQ(b.secondDerivative(h), 0.3 / (h * h));
+  }
+  // Value, slope and curvature continuous at δ.
+  const double d = 0.05, eps = 1e-9;
+  EXPECT_NEAR(b.value(d - eps), b.value(d + eps), 1e-7);
+  EXPECT_NEAR(b.firstDerivative(d - eps), b.firstDerivative(d + eps), 1e-5);
+  EXPECT_NEAR(b.secondDerivative(d - eps), b.secondDerivative(d + eps), 1e-3);
+  // Derivatives by finite differences on both sides and far into the infeasible side.
+  for (double h : {-1.0, -0.01, 0.0, 0.02, 0.049, 0.051, 0.2}) {
+    const double s = 1e-6;
+    EXPECT_NEAR((b.value(h + s) - b.value(h - s)) / (2 * s), b.firstDerivative(h), 1e-5) << h;
+    EXPECT_NEAR((b.firstDerivative(h + s) - b.firstDerivative(h - s)) / (2 * s),
+                b.secondDerivative(h), 1e-3 * b.secondDerivative(h))
+        << h;
+  }
+  EXPECT_TRUE(std::isfinite(b.value(-10.0)));
+  EXPECT_GT(b.value(-1.0), b.value(0.0));  // keeps pushing back toward feasibility
+}
+
+TEST(RiccatiSolver, MatchesTheKktSolutionWithEqualities) {
+  std::mt19937 rng(3);
+  const int N = 12, nx = 6, nu = 5, maxEq = 3;
+  for (int trial = 0; trial < 10; ++trial) {
+    const auto nodes =
+        testing::randomLqProblem(N, nx, nu, maxEq, [](int k) { return k % 4; }, rng);
+    const Eigen::VectorXd dx0 = Eigen::VectorXd::Random(nx);
+    std::vector<Eigen::VectorXd> dx, du, dxRef, duRef;
+    RiccatiSolver solver(N, nx, nu, maxEq);
+    ASSERT_TRUE(solver.solve(nodes, dx0, dx, du));
+    testing::solveByKkt(nodes, dx0, dxRef, duRef);
+    for (int k = 0; k <= N; ++k) EXPECT_LT((dx[k] - dxRef[k]).norm(), 1e-8 * (1 + dxRef[k].norm())) << k;
+    for (int k = 0; k < N; ++k) {
+      EXPECT_LT((du[k] - duRef[k]).norm(), 1e-8 * (1 + duRef[k].norm())) << k;
+      // Equalities hold, and the feedback reproduces the step.
+      const int m = nodes[k].neq;
+      EXPECT_LT((nodes[k].C.topRows(m) * dx[k] + nodes[k].D.topRows(m) * du[k] + nodes[k].e.head(m)).norm(), 1e-9);
+    }
+  }
+}
+
+TEST(RiccatiSolver, RejectsRankDeficientEqualities) {
+  std::mt19937 rng(4);
+  auto nodes = testing::randomLqProblem(4, 4, 3, 2, [](int) { return 2; }, rng);
+  nodes[2].D.row(1) = 2.0 * nodes[2].D.row(0);  // dependent rows
+  std::vector<Eigen::VectorXd> dx, du;
+  RiccatiSolver solver(4, 4, 3, 2);
+  EXPECT_FALSE(solver.solve(nodes, Eigen::VectorXd::Zero(4), dx, du));
+}
+
+}  // namespace
+}  // namespace ballast::mpc

@@ -1,0 +1,253 @@
+// The SQP: on a linear-quadratic problem one iteration gives the KKT solution; on the paper's
+// kino-dynamic problem the linearisation matches finite differences and a standing robot
+// converges to static equilibrium.
+#include <gtest/gtest.h>
+
+#include "model/algorithms.hpp"
+#include "mpc/kinodynamic_problem.hpp"
+#include "mpc/sqp_solver.hpp"
+#include "test/unit/mpc/lq_test_problems.hpp"
+#include "test/unit/test_support.hpp"
+
+namespace ballast::mpc {
+namespace {
+
+using model::CentroidalLayout;
+
+/// ẋ = A x + B u + c,  C x + D u + e = 0,  tracking cost.
+class LinearProblem final : public OptimalControlProblem {
+ public:
+  Eigen::MatrixXd Ac, Bc, C, D, Q, R, QN;
+  Eigen::VectorXd c, e;
+  int nx() const override { return static_cast<int>(Ac.rows()); }
+  int nu() const override { return static_cast<int>(Bc.cols()); }
+  int maxEqualities() const override { return static_cast<int>(C.rows()); }
+  std::unique_ptr<ProblemWorkspace> makeWorkspace() const override {
+    return std::make_unique<ProblemWorkspace>();
+  }
+  void evaluate(ProblemWorkspace&, const NodeReference& ref, const Eigen::VectorXd& x,
+                const Eigen::VectorXd& u, double dt, NodeValue& v) const override {
+    v.xdot = Ac * x + Bc * u + c;
+    v.cost = 0.5 * dt * ((x - ref.x).dot(Q * (x - ref.x)) + (u - ref.u).dot(R * (u - ref.u)));
+    v.equalityNorm2 = (C * x + D * u + e).squaredNorm();
+  }
+  void linearize(ProblemWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
+                 const Eigen::VectorXd& u, double dt, LqNode& n, NodeValue& v) const override {
+    evaluate(ws, ref, x, u, dt, v);
+    n.A = Eigen::MatrixXd::Identity(nx(), nx()) + dt * Ac;
+    n.B = dt * Bc;
+    n.neq = maxEqualities();
+    n.C = C;
+    n.D = D;
+    n.e = C * x + D * u + e;
+    n.Q = dt * Q;
+    n.R = dt * R;
+    n.S.setZero();
+    n.q = dt * Q * (x - ref.x);
+    n.r = dt * R * (u - ref.u);
+  }
+  double terminalCost(const NodeReference& ref, const Eigen::VectorXd& x, LqNode* n) const override {
+    if (n) {
+      n->setZero();
+      n->Q = QN;
+      n->q = QN * (x - ref.x);
+    }
+    return 0.5 * (x - ref.x).dot(QN * (x - ref.x));
+  }
+};
+
+TEST(Sqp, OneIterationSolvesALinearQuadraticProblem) {
+  std::mt19937 rng(9);
+  std::normal_distribution<double> n(0, 1);
+  auto rnd = [&](int r, int c) { return Eigen::MatrixXd::NullaryExpr(r, c, [&] { return n(rng); }); };
+  LinearProblem p;
+  const int nx = 5, nu = 4, N = 20;
+  p.Ac = 0.5 * rnd(nx, nx);
+  p.Bc = rnd(nx, nu);
+  p.c = rnd(nx, 1);
+  p.C = rnd(2, nx);
+  p.D = rnd(2, nu);
+  p.e = rnd(2, 1);
+  const Eigen::MatrixXd Lq = rnd(nx, nx), Lr = rnd(nu, nu);
+  p.Q = Lq * Lq.transpose() + Eigen::MatrixXd::Identity(nx, nx);
+  p.R = Lr * Lr.transpose() + Eigen::MatrixXd::Identity(nu, nu);
+  p.QN = 3.0 * p.Q;
+  SqpSettings settings;
+  settings.nodes = N;
+  settings.dt = 0.05;
+  SqpSolver sqp(p, settings);
+  for (auto& r : sqp.references()) {
+    r.x = rnd(nx, 1);
+    r.u = rnd(nu, 1);
+  }
+  const Eigen::VectorXd x0 = rnd(nx, 1);
+  ASSERT_TRUE(sqp.iterate(0.0, x0)) << sqp.statistics().message;
+  EXPECT_DOUBLE_EQ(sqp.statistics().step, 1.0);
+
+  // The same problem as one LQ in absolute variables, solved by a KKT system.
+  std::vector<LqNode> nodes(N + 1, LqNode(nx, nu, 2));
+  for (int k = 0; k <= N; ++k) {
+    const NodeReference& r = sqp.references()[k];
+    if (k == N) {
+      nodes[k].Q = p.QN;
+      nodes[k].q = -p.QN * r.x;
+      break;
+    }
+    nodes[k].A = Eigen::MatrixXd::Identity(nx, nx) + settings.dt * p.Ac;
+    nodes[k].B = settings.dt * p.Bc;
+    nodes[k].b = settings.dt * p.c;
+    nodes[k].neq = 2;
+    nodes[k].C = p.C;
+    nodes[k].D = p.D;
+    nodes[k].e = p.e;
+    nodes[k].Q = settings.dt * p.Q;
+    nodes[k].R = settings.dt * p.R;
+    nodes[k].q = -settings.dt * p.Q * r.x;
+    nodes[k].r = -settings.dt * p.R * r.u;
+  }
+  std::vector<Eigen::VectorXd> x, u;
+  testing::solveByKkt(nodes, x0, x, u);
+  const MpcSolution& s = sqp.solution();
+  for (int k = 0; k <= N; ++k) EXPECT_LT((s.x[k] - x[k]).norm(), 1e-8 * (1 + x[k].norm())) << k;
+  for (int k = 0; k < N; ++k) EXPECT_LT((s.u[k] - u[k]).norm(), 1e-8 * (1 + u[k].norm())) << k;
+  EXPECT_LT(sqp.statistics().violation, 1e-9);
+}
+
+class Kinodynamic : public ::testing::Test {
+ protected:
+  const model::Model& m = test::humanoid();
+  const std::array<int, kNumContacts> frames{m.frameId("left_toe"), m.frameId("left_heel"),
+                                             m.frameId("right_toe"), m.frameId("right_heel")};
+  const CentroidalLayout L{m.nj(), kNumContacts};
+  model::VecX<double> qStand = test::standingConfiguration(m);
+
+  ProblemSettings settings() const {
+    ProblemSettings s;
+    s.stateWeights = Eigen::VectorXd::Constant(L.nx(), 1.0);
+    s.stateWeights.segment<6>(0).setConstant(10.0);
+    s.stateWeights.segment<6>(L.kBasePosition).setConstant(500.0);
+    s.stateWeights.segment(L.kJoints, m.nj()).setConstant(20.0);
+    s.inputWeights = Eigen::VectorXd::Constant(L.nu(), 1e-3);
+    s.inputWeights.tail(m.nj()).setConstant(1.0);
+    return s;
+  }
+  /// x for the standing configuration q with momentum h.
+  Eigen::VectorXd stateOf(const model::VecX<double>& q, const model::Vec6<double>& h) const {
+    Eigen::VectorXd x(L.nx());
+    x << h, q.head<3>(), model::zyxFromRotation(model::quaternionToRotation<double>(q.segment<4>(3))),
+        q.tail(m.nj());
+    return x;
+  }
+  NodeReference standingReference() const {
+    NodeReference r;
+    r.x = stateOf(qStand, model::Vec6<double>::Zero());
+    r.u = Eigen::VectorXd::Zero(L.nu());
+    for (int c = 0; c < 4; ++c) r.u[L.force(c) + 2] = m.totalMass() * 9.81 / 4;
+    return r;
+  }
+};
+
+TEST_F(Kinodynamic, LinearizationMatchesFiniteDifferences) {
+  KinodynamicProblem problem(m, frames, settings());
+  auto ws = problem.makeWorkspace();
+  std::mt19937 rng(2);
+  std::normal_distribution<double> n(0, 1);
+  NodeReference ref = standingReference();
+  ref.stance = {false, false, true, true};  // left foot swinging
+  for (int c : {0, 1}) {
+    ref.swingPosition[c] = Eigen::Vector3d(0.1 * n(rng), 0.1 + 0.05 * n(rng), 0.05);
+    ref.swingVelocity[c] = Eigen::Vector3d(n(rng), 0.1 * n(rng), 0.3 * n(rng));
+  }
+  Eigen::VectorXd x = ref.x, u = ref.u;
+  for (int i = 0; i < 6; ++i) x[i] += 5 * n(rng);
+  for (int i = L.kBaseZyx; i < L.nx(); ++i) x[i] += 0.05 * n(rng);
+  for (int i = 0; i < 12; ++i) u[i] += 20 * n(rng);
+  for (int i = 12; i < L.nu(); ++i) u[i] = 0.3 * n(rng);
+  const double dt = 0.02;
+  LqNode node(L.nx(), L.nu(), problem.maxEqualities()), probe = node;
+  NodeValue value, probeValue;
+  problem.linearize(*ws, ref, x, u, dt, node, value);
+  EXPECT_EQ(node.neq, 10 + 6);
+
+  const double h = 1e-6;
+  Eigen::MatrixXd Cfd(node.neq, L.nx()), Dfd(node.neq, L.nu()), Afd(L.nx(), L.nx()), Bfd(L.nx(), L.nu());
+  Eigen::VectorXd qfd(L.nx()), rfd(L.nu());
+  auto column = [&](Eigen::VectorXd& xp, Eigen::VectorXd& up, Eigen::VectorXd& xm, Eigen::VectorXd& um,
+                    auto&& A, auto&& C, double& g) {
+    problem.linearize(*ws, ref, xp, up, dt, probe, probeValue);
+    const Eigen::VectorXd ep = probe.e.head(node.neq), fp = probeValue.xdot;
+    const double cp = probeValue.cost;
+    problem.linearize(*ws, ref, xm, um, dt, probe, probeValue);
+    C = (ep - probe.e.head(node.neq)) / (2 * h);
+    A = dt * (fp - probeValue.xdot) / (2 * h);
+    g = (cp - probeValue.cost) / (2 * h);
+  };
+  for (int i = 0; i < L.nx(); ++i) {
+    Eigen::VectorXd xp = x, xm = x, uu = u;
+    xp[i] += h;
+    xm[i] -= h;
+    column(xp, uu, xm, uu, Afd.col(i), Cfd.col(i), qfd[i]);
+    Afd(i, i) += 1.0;
+  }
+  for (int i = 0; i < L.nu(); ++i) {
+    Eigen::VectorXd up = u, um = u, xx = x;
+    up[i] += h;
+    um[i] -= h;
+    column(xx, up, xx, um, Bfd.col(i), Dfd.col(i), rfd[i]);
+  }
+  auto close = [](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b, double tol) {
+    return (a - b).cwiseAbs().maxCoeff() <= tol * std::max(1.0, b.cwiseAbs().maxCoeff());
+  };
+  EXPECT_TRUE(close(node.A, Afd, 1e-6));
+  EXPECT_TRUE(close(node.B, Bfd, 1e-6));
+  EXPECT_TRUE(close(node.C.topRows(node.neq), Cfd, 1e-6)) << (node.C.topRows(node.neq) - Cfd).cwiseAbs().maxCoeff();
+  EXPECT_TRUE(close(node.D.topRows(node.neq), Dfd, 1e-6)) << (node.D.topRows(node.neq) - Dfd).cwiseAbs().maxCoeff();
+  EXPECT_TRUE(close(node.q, qfd, 1e-5)) << (node.q - qfd).cwiseAbs().maxCoeff();
+  EXPECT_TRUE(close(node.r, rfd, 1e-5)) << (node.r - rfd).cwiseAbs().maxCoeff();
+  // The value path gives the same cost and equality residual as the linearisation.
+  NodeValue v;
+  problem.evaluate(*ws, ref, x, u, dt, v);
+  EXPECT_DOUBLE_EQ(v.cost, value.cost);
+  EXPECT_NEAR(v.equalityNorm2, node.e.head(node.neq).squaredNorm(), 1e-12);
+}
+
+TEST_F(Kinodynamic, StandingConvergesToStaticEquilibrium) {
+  KinodynamicProblem problem(m, frames, settings());
+  SqpSettings settings;
+  settings.nodes = 25;
+  settings.dt = 0.04;
+  SqpSolver sqp(problem, settings);
+  for (auto& r : sqp.references()) r = standingReference();
+  // Start off balance: base 2 cm aside, some momentum.
+  model::VecX<double> q = qStand;
+  q[1] += 0.02;
+  model::Vec6<double> h;
+  h << 3.0, -2.0, 1.0, 0.5, 0.2, 0.0;
+  const Eigen::VectorXd x0 = stateOf(q, h);
+  for (int it = 0; it < 15; ++it) {
+    const bool ok = sqp.iterate(0.0, x0);
+    ASSERT_TRUE(ok) << it << ": " << sqp.statistics().message;
+  }
+  const MpcSolution& s = sqp.solution();
+  EXPECT_LT(sqp.statistics().violation, 1e-5);
+  // At the end of the horizon the robot is at rest: forces carry the weight, no net torque,
+  // momentum gone.
+  const Eigen::VectorXd& u = s.u.back();
+  double fz = 0;
+  for (int c = 0; c < 4; ++c) {
+    fz += u[L.force(c) + 2];
+    EXPECT_GT(u[L.force(c) + 2], 0.0);  // every point pushes
+  }
+  EXPECT_NEAR(fz, m.totalMass() * 9.81, 0.01 * m.totalMass() * 9.81);
+  EXPECT_LT(s.x.back().head<6>().norm(), 0.5);
+  model::Data<double> d(m);
+  Eigen::VectorXd xdot(L.nx());
+  model::centroidalDynamics(m, d, std::vector<int>(frames.begin(), frames.end()), s.x.back(), u, xdot);
+  EXPECT_LT(xdot.head<3>().norm(), 0.02 * m.totalMass() * 9.81);
+  EXPECT_LT(xdot.segment<3>(3).norm(), 2.0);
+  // The first node is the measured state, held.
+  EXPECT_LT((s.x[0] - x0).norm(), 1e-12);
+}
+
+}  // namespace
+}  // namespace ballast::mpc
