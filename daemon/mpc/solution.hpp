@@ -26,7 +26,8 @@ struct MpcSolution {
 
   /// x(t) and u(t), clamped to the horizon. x and u must already have the right sizes.
   void sample(double t, Eigen::VectorXd& xt, Eigen::VectorXd& ut, StanceFlags* mode = nullptr) const {
-    const double s = std::clamp((t - t0) / dt, 0.0, static_cast<double>(nodes()));
+    double s = std::clamp((t - t0) / dt, 0.0, static_cast<double>(nodes()));
+    if (std::abs(s - std::round(s)) < 1e-6) s = std::round(s);  // on a node: that node's input
     const int k = std::min(static_cast<int>(std::floor(s)), nodes() - 1);
     const double a = s - k;
     xt = (1.0 - a) * x[k] + a * x[k + 1];

@@ -1,0 +1,259 @@
+#include "locomotion/locomotion_planner.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "model/algorithms.hpp"
+
+namespace ballast::locomotion {
+
+using model::CentroidalLayout;
+
+std::array<int, kNumContacts> contactFrameIds(const model::Model& model,
+                                              const LocomotionSettings& settings) {
+  std::array<int, kNumContacts> ids{};
+  for (int c = 0; c < kNumContacts; ++c) ids[c] = model.frameId(settings.contactFrames[c]);
+  return ids;
+}
+
+namespace {
+
+/// Q and R from the physical weights.
+void fillWeights(const model::Model& model, const LocomotionSettings& s, mpc::ProblemSettings& p) {
+  const CentroidalLayout L{model.nj(), kNumContacts};
+  const double m = model.totalMass();
+  const CostWeights& w = s.weights;
+  p.stateWeights.resize(L.nx());
+  p.stateWeights.segment<3>(0).setConstant(w.linearVelocity / (m * m));
+  p.stateWeights.segment<3>(3).setConstant(w.angularMomentum / (m * m));
+  p.stateWeights.segment<3>(L.kBasePosition) = w.basePosition;
+  p.stateWeights.segment<3>(L.kBaseZyx) = w.baseOrientation;
+  p.inputWeights.resize(L.nu());
+  p.inputWeights.head(3 * kNumContacts).setConstant(w.force);
+  for (int j = 0; j < model.nj(); ++j) {
+    p.stateWeights[L.kJoints + j] = s.armJoint[j] ? w.armJoint : w.legJoint;
+    p.inputWeights[L.jointVelocity() + j] = s.armJoint[j] ? w.armJointVelocity : w.legJointVelocity;
+  }
+}
+
+gait::VelocityCommand planarCommand(const LocomotionCommand& c) {
+  return c.walk ? gait::VelocityCommand{c.vx, c.vy, c.yawRate} : gait::VelocityCommand{};
+}
+
+/// Heading of the feet: the mean toe-minus-heel direction.
+double feetHeading(const std::array<Eigen::Vector3d, kNumContacts>& p) {
+  const Eigen::Vector3d d = (p[0] - p[1]) + (p[2] - p[3]);
+  return std::atan2(d.y(), d.x());
+}
+
+}  // namespace
+
+LocomotionPlanner::LocomotionPlanner(const model::Model& model, const LocomotionSettings& settings,
+                                     const gait::TerrainQuery& terrain)
+    : model_(model),
+      settings_(settings),
+      terrain_(terrain),
+      frames_(contactFrameIds(model, settings)),
+      data_(model),
+      swings_(settings.swing, {}) {
+  if (settings_.nominalJoints.size() != model.nj() ||
+      static_cast<int>(settings_.armJoint.size()) != model.nj())
+    throw std::invalid_argument("locomotion settings: nominal posture and joint groups need " +
+                                std::to_string(model.nj()) + " joints");
+  if (settings_.sqp.nodes > kMaxNodes || model.nj() > kMaxJoints)
+    throw std::invalid_argument("locomotion settings: at most " + std::to_string(kMaxNodes) +
+                                " MPC nodes and " + std::to_string(kMaxJoints) + " joints");
+  fillWeights(model, settings_, settings_.problem);
+  // The nominal stance: contact points relative to the base at the nominal posture.
+  Eigen::VectorXd q = model::neutralConfiguration(model);
+  q.tail(model.nj()) = settings_.nominalJoints;
+  model::forwardKinematics(model, data_, q);
+  for (int c = 0; c < kNumContacts; ++c) {
+    stance_[c] = model::framePlacement(model, data_, frames_[c]).p;
+    stance_[c].z() = 0.0;
+  }
+  swings_ = gait::SwingPlanner(settings_.swing, stance_);
+  problem_ = std::make_unique<mpc::KinodynamicProblem>(model, frames_, settings_.problem);
+  sqp_ = std::make_unique<mpc::SqpSolver>(*problem_, settings_.sqp);
+}
+
+LocomotionPlanner::~LocomotionPlanner() = default;
+
+Eigen::VectorXd LocomotionPlanner::measuredState(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+  const CentroidalLayout L{model_.nj(), kNumContacts};
+  model::ccrba(model_, data_, q, v);
+  Eigen::Vector3d zyx = model::zyxFromRotation(model::quaternionToRotation<double>(q.segment<4>(3)));
+  if (haveYaw_) zyx[0] = lastYaw_ + std::remainder(zyx[0] - lastYaw_, 2.0 * M_PI);
+  lastYaw_ = zyx[0];
+  haveYaw_ = true;
+  Eigen::VectorXd x(L.nx());
+  x << data_.hg, q.head<3>(), zyx, q.tail(model_.nj());
+  return x;
+}
+
+bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                               const LocomotionCommand& command, Plan& plan) {
+  const Eigen::VectorXd x = measuredState(q, v);  // also leaves FK and composite inertias in data_
+  const Eigen::Matrix3d R = model::quaternionToRotation<double>(q.segment<4>(3));
+  const Eigen::Vector3d baseVelocity = R * v.head<3>();
+  gait::GaitState gaitState;
+  gaitState.t = t;
+  gaitState.baseVelocity = baseVelocity;
+  for (int c = 0; c < kNumContacts; ++c)
+    gaitState.contactPositions[c] = model::framePlacement(model_, data_, frames_[c]).p;
+  const gait::PlanarPose start =
+      referenceStart(t, x, command, feetHeading(gaitState.contactPositions));
+  // Footholds follow the reference base trajectory (the hip where the plan wants it at
+  // touch-down), the measured velocity enters through the capture-point term.
+  gaitState.base = start;
+
+  // Gait: walking or standing, changed only where the schedule allows.
+  schedule_.setGait(command.walk ? settings_.walkGait : gait::Gait{}, t);
+  const double horizon = settings_.sqp.nodes * settings_.sqp.dt;
+  swings_.update(schedule_, gaitState, planarCommand(command), horizon, terrain_);
+
+  fillReferences(t, start, command);
+  const bool ok = sqp_->iterate(t, x);
+  if (!ok) return false;
+
+  const mpc::MpcSolution& s = sqp_->solution();
+  plan.valid = true;
+  plan.t0 = s.t0;
+  plan.dt = s.dt;
+  plan.nodes = s.nodes();
+  plan.nx = problem_->nx();
+  plan.nu = problem_->nu();
+  for (int k = 0; k <= plan.nodes; ++k)
+    Eigen::Map<Eigen::VectorXd>(plan.x[k], plan.nx) = s.x[k];
+  for (int k = 0; k < plan.nodes; ++k)
+    Eigen::Map<Eigen::VectorXd>(plan.u[k], plan.nu) = s.u[k];
+  plan.schedule = schedule_;
+  plan.swings = swings_;
+  plan.walking = command.walk;
+  return true;
+}
+
+gait::PlanarPose LocomotionPlanner::referenceStart(double t, const Eigen::VectorXd& x,
+                                                  const LocomotionCommand& command,
+                                                  double feetYaw) {
+  // Where the base reference starts: walking, the commanded pose; standing, over the feet.
+  gait::PlanarPose start;
+  start.position = x.segment<3>(CentroidalLayout::kBasePosition);
+  const double yaw = x[CentroidalLayout::kBaseZyx];
+  const Eigen::Vector2d measured = start.position.head<2>();
+  if (command.walk) {
+    if (!walking_) {  // walking starts from where the base is, along its heading
+      heading_ = yaw;
+      position_ = measured;
+    } else {
+      gait::PlanarPose advanced;
+      advanced.position << position_, 0.0;
+      advanced.yaw = heading_;
+      advanced = advanced.predicted(planarCommand(command), std::max(0.0, t - commandTime_));
+      heading_ = advanced.yaw;
+      position_ = advanced.position.head<2>();
+    }
+    const Eigen::Vector2d lead = position_ - measured;
+    if (lead.norm() > settings_.maxPositionLead)
+      position_ = measured + lead * (settings_.maxPositionLead / lead.norm());
+    start.position.head<2>() = position_;
+    start.yaw = yaw + std::remainder(heading_ - yaw, 2.0 * M_PI);
+  } else {
+    Eigen::Vector3d feet = Eigen::Vector3d::Zero(), nominal = Eigen::Vector3d::Zero();
+    for (int c = 0; c < kNumContacts; ++c) {
+      feet += model::framePlacement(model_, data_, frames_[c]).p / kNumContacts;
+      nominal += stance_[c] / kNumContacts;
+    }
+    start.yaw = yaw + std::remainder(feetYaw + command.yaw - yaw, 2.0 * M_PI);
+    const double cy = std::cos(feetYaw), sy = std::sin(feetYaw);
+    start.position.head<2>() =
+        feet.head<2>() - Eigen::Vector2d(cy * nominal.x() - sy * nominal.y(),
+                                         sy * nominal.x() + cy * nominal.y());
+  }
+  walking_ = command.walk;
+  commandTime_ = t;
+  return start;
+}
+
+void LocomotionPlanner::fillReferences(double t, const gait::PlanarPose& start,
+                                       const LocomotionCommand& command) {
+  const CentroidalLayout L{model_.nj(), kNumContacts};
+  const double m = model_.totalMass();
+  const double g = -model_.gravity.z();
+  const double dt = settings_.sqp.dt;
+  const double izz = data_.oYcrb[0].inertiaAboutCom()(2, 2);
+  const double height = command.height > 0.0 ? command.height : settings_.nominalHeight;
+  const gait::VelocityCommand velocity = planarCommand(command);
+
+  auto& refs = sqp_->references();
+  for (int k = 0; k <= settings_.sqp.nodes; ++k) {
+    const double tk = t + k * dt;
+    mpc::NodeReference& r = refs[k];
+    const gait::ContactFlags flags = schedule_.flagsAt(tk);
+    int stanceCount = 0;
+    for (int c = 0; c < kNumContacts; ++c) {
+      r.stance[c] = flags[c];
+      stanceCount += flags[c];
+      if (!flags[c]) {
+        const gait::PointReference p = swings_.reference(c, tk);
+        r.swingPosition[c] = p.position;
+        r.swingVelocity[c] = p.velocity;
+      }
+    }
+    const gait::PlanarPose pose = start.predicted(velocity, k * dt);
+    const double cy = std::cos(pose.yaw), sy = std::sin(pose.yaw);
+    const Eigen::Vector3d vWorld(cy * velocity.vx - sy * velocity.vy,
+                                 sy * velocity.vx + cy * velocity.vy, 0.0);
+    r.x.segment<3>(0) = m * vWorld;
+    r.x.segment<3>(3) = Eigen::Vector3d(0.0, 0.0, izz * velocity.yawRate);
+    r.x.segment<3>(L.kBasePosition) =
+        Eigen::Vector3d(pose.position.x(), pose.position.y(),
+                        terrain_.height(pose.position.x(), pose.position.y()) + height);
+    r.x.segment<3>(L.kBaseZyx) = Eigen::Vector3d(pose.yaw, command.pitch, command.roll);
+    r.x.segment(L.kJoints, model_.nj()) = settings_.nominalJoints;
+    r.u.setZero();
+    for (int c = 0; c < kNumContacts; ++c)
+      if (flags[c] && stanceCount > 0) r.u[L.force(c) + 2] = m * g / stanceCount;
+  }
+}
+
+PlanSampler::PlanSampler(const model::Model& model,
+                         const std::array<int, kNumContacts>& contactFrames)
+    : model_(model),
+      frames_(contactFrames.begin(), contactFrames.end()),
+      data_(model),
+      x_(CentroidalLayout{model.nj(), kNumContacts}.nx()),
+      u_(CentroidalLayout{model.nj(), kNumContacts}.nu()),
+      xdot_(CentroidalLayout{model.nj(), kNumContacts}.nx()) {}
+
+void PlanSampler::sample(const Plan& plan, double t, PlanSample& out) {
+  const CentroidalLayout L{model_.nj(), kNumContacts};
+  double s = std::clamp((t - plan.t0) / plan.dt, 0.0, static_cast<double>(plan.nodes));
+  if (std::abs(s - std::round(s)) < 1e-6) s = std::round(s);  // on a node: that node's input
+  const int k = std::min(static_cast<int>(std::floor(s)), plan.nodes - 1);
+  const double a = s - k;
+  x_ = (1.0 - a) * Eigen::Map<const Eigen::VectorXd>(plan.x[k], plan.nx) +
+       a * Eigen::Map<const Eigen::VectorXd>(plan.x[k + 1], plan.nx);
+  u_ = Eigen::Map<const Eigen::VectorXd>(plan.u[k], plan.nu);  // inputs hold over a node
+  model::centroidalDynamics(model_, data_, frames_, x_, u_, xdot_);
+
+  const Eigen::Vector3d zyx = x_.segment<3>(L.kBaseZyx);
+  out.momentum = x_.head<6>();
+  out.basePosition = x_.segment<3>(L.kBasePosition);
+  out.baseZyx = zyx;
+  out.baseLinearVelocity = xdot_.segment<3>(L.kBasePosition);
+  out.baseAngularVelocity =
+      model::zyxRateToAngularVelocity<double>(zyx) * xdot_.segment<3>(L.kBaseZyx);
+  for (int j = 0; j < model_.nj(); ++j) {
+    out.jointPositions[j] = x_[L.kJoints + j];
+    out.jointVelocities[j] = u_[L.jointVelocity() + j];
+  }
+  const gait::ContactFlags flags = plan.schedule.flagsAt(t);
+  for (int c = 0; c < kNumContacts; ++c) {
+    out.stance[c] = flags[c];
+    out.contactForce[c] = u_.segment<3>(L.force(c));
+    out.contact[c] = plan.swings.reference(c, t);
+  }
+}
+
+}  // namespace ballast::locomotion

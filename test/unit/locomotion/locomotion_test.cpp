@@ -1,0 +1,159 @@
+// The planner pipeline closed on its own model: each update the state advances along eq. (1)
+// with the planned inputs for one planner period and is fed back. A plan that cannot walk its
+// own model cannot walk the robot.
+#include <gtest/gtest.h>
+
+#include "locomotion/locomotion_planner.hpp"
+#include "model/algorithms.hpp"
+#include "test/unit/test_support.hpp"
+
+namespace ballast::locomotion {
+namespace {
+
+using model::CentroidalLayout;
+
+LocomotionSettings defaultSettings(const model::Model& m) {
+  LocomotionSettings s;
+  const Eigen::VectorXd q = test::standingConfiguration(m);
+  s.nominalJoints = q.tail(m.nj());
+  s.nominalHeight = q[2];
+  s.armJoint.assign(m.nj(), false);
+  for (int j = 0; j < m.nj(); ++j) s.armJoint[j] = m.jointName[j + 1].find("shoulder") != std::string::npos ||
+                                                   m.jointName[j + 1].find("elbow") != std::string::npos ||
+                                                   m.jointName[j + 1].find("wrist") != std::string::npos;
+  return s;
+}
+
+/// The robot as the planner's model sees it. Two ways to move it over one planner period:
+///  kFollowPlan   — it is where the plan said it would be (a perfect whole-body controller),
+///  kOpenLoop     — eq. (1) integrated in 1 ms steps under the plan's inputs, with no state
+///                  feedback at all: what the plan's forward-Euler discretisation misses
+///                  accumulates until the next plan corrects it.
+enum class Tracking { kFollowPlan, kOpenLoop };
+
+class OwnModelWorld {
+ public:
+  OwnModelWorld(const model::Model& m, const std::array<int, 4>& frames)
+      : m_(m), frames_(frames.begin(), frames.end()), data_(m), L_{m.nj(), 4} {}
+
+  void advance(Eigen::VectorXd& x, const Plan& plan, double t, double duration, Tracking how) {
+    Eigen::VectorXd u(L_.nu()), xdot(L_.nx());
+    const double k = std::clamp((t + duration - plan.t0) / plan.dt, 0.0, plan.nodes - 1e-9);
+    const int i = static_cast<int>(k);
+    u = Eigen::Map<const Eigen::VectorXd>(plan.u[std::min(i, plan.nodes - 1)], plan.nu);
+    if (how == Tracking::kFollowPlan) {
+      x = (i + 1 - k) * Eigen::Map<const Eigen::VectorXd>(plan.x[i], plan.nx) +
+          (k - i) * Eigen::Map<const Eigen::VectorXd>(plan.x[i + 1], plan.nx);
+    } else {
+      for (double s = 0; s < duration - 1e-9; s += 1e-3) {
+        const double n = std::clamp((t + s - plan.t0) / plan.dt, 0.0, plan.nodes - 1.0);
+        u = Eigen::Map<const Eigen::VectorXd>(plan.u[static_cast<int>(n)], plan.nu);
+        model::centroidalDynamics(m_, data_, frames_, x, u, xdot);
+        x += 1e-3 * xdot;
+      }
+    }
+    lastU_ = u;
+  }
+  /// Model (q, v) for the planner's x (joint velocities from the last input).
+  void toModel(const Eigen::VectorXd& x, Eigen::VectorXd& q, Eigen::VectorXd& v) {
+    Eigen::VectorXd xdot(L_.nx());
+    model::centroidalDynamics(m_, data_, frames_, x, lastU_, xdot);
+    const Eigen::Vector3d zyx = x.segment<3>(L_.kBaseZyx);
+    q = model::configurationFromZyx(m_, x.segment<3>(L_.kBasePosition), zyx, x.tail(m_.nj()));
+    v.resize(m_.nv);
+    v << model::baseVelocityFromZyxRates<double>(zyx, xdot.segment<3>(L_.kBasePosition),
+                                                 xdot.segment<3>(L_.kBaseZyx)),
+        lastU_.tail(m_.nj());
+  }
+  Eigen::VectorXd lastU_;
+
+ private:
+  const model::Model& m_;
+  std::vector<int> frames_;
+  model::Data<double> data_;
+  CentroidalLayout L_;
+};
+
+class Locomotion : public ::testing::Test {
+ public:
+  const model::Model& m = test::humanoid();
+  LocomotionSettings settings = defaultSettings(m);
+  gait::FlatTerrain ground;
+
+  /// Runs the planner closed on its own model for `duration`; returns the base x positions.
+  std::vector<double> run(LocomotionPlanner& planner, const LocomotionCommand& cmd, double duration,
+                          Eigen::VectorXd& q, Eigen::VectorXd& v, Plan& plan, double& t,
+                          Tracking how = Tracking::kFollowPlan) {
+    OwnModelWorld world(m, contactFrameIds(m, settings));
+    world.lastU_ = Eigen::VectorXd::Zero(CentroidalLayout{m.nj(), 4}.nu());
+    std::vector<double> xs;
+    const double period = 0.01;
+    for (; duration > 1e-9; duration -= period, t += period) {
+      const bool ok = planner.update(t, q, v, cmd, plan);
+      EXPECT_TRUE(ok) << "t = " << t << ": " << planner.statistics().message;
+      if (!ok) break;
+      Eigen::VectorXd x = planner.measuredState(q, v);
+      world.advance(x, plan, t, period, how);
+      world.toModel(x, q, v);
+      xs.push_back(q[0]);
+    }
+    return xs;
+  }
+};
+
+TEST_F(Locomotion, StandsOnItsOwnModel) {
+  LocomotionPlanner planner(m, settings, ground);
+  Eigen::VectorXd q = test::standingConfiguration(m), v = Eigen::VectorXd::Zero(m.nv);
+  q[0] += 0.02;  // off centre
+  Plan plan;
+  double t = 0;
+  run(planner, LocomotionCommand{}, 2.0, q, v, plan, t);
+  PlanSampler sampler(m, contactFrameIds(m, settings));
+  PlanSample s;
+  sampler.sample(plan, t, s);
+  double fz = 0;
+  for (int c = 0; c < 4; ++c) fz += s.contactForce[c].z();
+  EXPECT_NEAR(fz, m.totalMass() * 9.81, 0.02 * m.totalMass() * 9.81);
+  EXPECT_LT(s.baseLinearVelocity.norm(), 0.05);
+  EXPECT_NEAR(q[2], settings.nominalHeight, 0.02);
+}
+
+/// Walks at `vx` for 4 s; returns the mean speed over the last 2 s.
+double walkSpeed(Locomotion& f, double vx, Tracking how, Eigen::VectorXd& q) {
+  LocomotionPlanner planner(f.m, f.settings, f.ground);
+  q = test::standingConfiguration(f.m);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(f.m.nv);
+  Plan plan;
+  double t = 0;
+  LocomotionCommand cmd;
+  cmd.walk = true;
+  cmd.vx = vx;
+  const std::vector<double> xs = f.run(planner, cmd, 4.0, q, v, plan, t, how);
+  EXPECT_EQ(xs.size(), 400u);
+  if (xs.size() != 400u) return 0.0;
+  return (xs[399] - xs[199]) / 2.0;
+}
+
+TEST_F(Locomotion, PlansWalkingAtTheCommandedSpeed) {
+  Eigen::VectorXd q;
+  for (double vx : {0.5, 1.0}) {
+    const double speed = walkSpeed(*this, vx, Tracking::kFollowPlan, q);
+    std::printf("commanded %.2f m/s, planned and followed %.3f m/s\n", vx, speed);
+    EXPECT_NEAR(speed, vx, 0.03 * vx) << vx;
+    EXPECT_NEAR(q[2], settings.nominalHeight, 0.03);
+    const Eigen::Vector3d zyx = model::zyxFromRotation(model::quaternionToRotation<double>(q.segment<4>(3)));
+    EXPECT_LT(zyx.cwiseAbs().maxCoeff(), 0.1) << vx;
+  }
+}
+
+TEST_F(Locomotion, WalksEvenWithoutStateFeedbackBetweenPlans) {
+  // Open loop between plans, so the 20 ms forward-Euler model error accumulates each period.
+  Eigen::VectorXd q;
+  const double speed = walkSpeed(*this, 0.8, Tracking::kOpenLoop, q);
+  std::printf("commanded 0.80 m/s, open loop between plans %.3f m/s\n", speed);
+  EXPECT_NEAR(speed, 0.8, 0.1 * 0.8);
+  EXPECT_NEAR(q[2], settings.nominalHeight, 0.05);
+}
+
+}  // namespace
+}  // namespace ballast::locomotion
