@@ -68,17 +68,18 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
   // Equalities: contact-point velocities (5 per foot) and swing forces.
   double eq2 = 0.0;
   int row = 0;
-  auto putRows = [&](const auto& projection, const Eigen::Vector3d& residual,
+  // One row per selected world axis of a point's velocity condition.
+  auto putRows = [&](std::initializer_list<Eigen::Index> axes, const Eigen::Vector3d& residual,
                      const model::Mat3X<double>& dx, const model::Mat3X<double>& du) {
-    const int n = static_cast<int>(projection.rows());
-    const Eigen::VectorXd g = projection * residual;
-    eq2 += g.squaredNorm();
-    if (node) {
-      node->e.segment(row, n) = g;
-      node->C.middleRows(row, n).noalias() = projection * dx;
-      node->D.middleRows(row, n).noalias() = projection * du;
+    for (const Eigen::Index a : axes) {
+      eq2 += residual[a] * residual[a];
+      if (node) {
+        node->e[row] = residual[a];
+        node->C.row(row) = dx.row(a);
+        node->D.row(row) = du.row(a);
+      }
+      ++row;
     }
-    row += n;
   };
   for (int foot = 0; foot < 2; ++foot) {
     const int toe = 2 * foot, heel = 2 * foot + 1;
@@ -86,9 +87,6 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
     // already fixes. A constant selection keeps the Jacobian exact.
     Eigen::Index dropped;
     (ws.contacts[toe].position - ws.contacts[heel].position).cwiseAbs().maxCoeff(&dropped);
-    Eigen::Matrix<double, 2, 3> across = Eigen::Matrix<double, 2, 3>::Zero();
-    across(0, (dropped + 1) % 3) = 1.0;
-    across(1, (dropped + 2) % 3) = 1.0;
     for (int c : {toe, heel}) {
       const model::FrameKinematicsZyx& k = ws.contacts[c];
       Eigen::Vector3d residual = k.velocity;
@@ -98,9 +96,9 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
         dx += s.swingPositionGain * k.dPosition_dx;
       }
       if (c == toe)
-        putRows(Eigen::Matrix3d::Identity(), residual, dx, k.dVelocity_du);
+        putRows({0, 1, 2}, residual, dx, k.dVelocity_du);
       else
-        putRows(across, residual, dx, k.dVelocity_du);
+        putRows({(dropped + 1) % 3, (dropped + 2) % 3}, residual, dx, k.dVelocity_du);
     }
   }
   for (int c = 0; c < kNumContacts; ++c) {

@@ -10,62 +10,108 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 }
 }  // namespace
 
-RiccatiSolver::RiccatiSolver(int horizonNodes, int nx, int nu, int maxEq)
+RiccatiSolver::RiccatiSolver(int horizonNodes, int nx, int nu)
     : N_(horizonNodes), nx_(nx), nu_(nu), proj_(horizonNodes), K_(horizonNodes),
-      fullK_(horizonNodes), k_(horizonNodes), P_(nx, nx), PA_(nx, nx), PB_(nx, nu),
-      Huu_(nu, nu), Hux_(nu, nx), Dt_(nu, maxEq), p_(nx), Pb_(nx), hu_(nu) {}
+      k_(horizonNodes), P_(nx, nx), PA_(nx, nx), PB_(nx, nu), Huu_(nu, nu), Hux_(nu, nx),
+      p_(nx), Pb_(nx), hu_(nu) {}
 
 bool RiccatiSolver::project(int k, const LqNode& n) {
   Projected& p = proj_[k];
   const int m = n.neq;
-  if (m == 0) {
-    p.nw = nu_;
-    p.Kc.setZero(nu_, nx_);
-    p.kc.setZero(nu_);
-    p.Z.setIdentity(nu_, nu_);
-    p.A = n.A;
-    p.B = n.B;
-    p.b = n.b;
-    p.Q = n.Q;
-    p.S = n.S;
-    p.R = n.R;
-    p.q = n.q;
-    p.r = n.r;
-    return true;
+  // Sort inputs: fixed by a unit row, constrained by the other rows, or free.
+  enum Kind : char { kFree, kFixed, kConstrained };
+  std::vector<Kind> kind(nu_, kFree);
+  std::vector<int> general;
+  p.kc.setZero(nu_);
+  for (int r = 0; r < m; ++r) {
+    int entries = 0, column = -1;
+    for (int j = 0; j < nu_; ++j)
+      if (n.D(r, j) != 0.0) ++entries, column = j;
+    if (entries == 1 && n.C.row(r).isZero(0.0)) {
+      if (kind[column] == kFixed) return false;  // two rows fix the same input
+      kind[column] = kFixed;
+      p.kc[column] = -n.e[r] / n.D(r, column);
+    } else {
+      if (entries == 0) return false;  // a row no input can satisfy
+      general.push_back(r);
+    }
   }
-  // Dᵀ = [Y Z] [Rd; 0]: Y spans D's rows, Z its null space.
-  const Eigen::HouseholderQR<Eigen::MatrixXd> qr(n.D.topRows(m).transpose());
-  const Eigen::MatrixXd Qfull = qr.householderQ();
-  const auto Rd = qr.matrixQR().topLeftCorner(m, m).triangularView<Eigen::Upper>();
-  const Eigen::VectorXd pivots = qr.matrixQR().diagonal().head(m).cwiseAbs();
-  if (!(pivots.minCoeff() > 1e-9 * std::max(1.0, pivots.maxCoeff()))) return false;
-  const auto Y = Qfull.leftCols(m);
-  p.nw = nu_ - m;
-  p.Z = Qfull.rightCols(p.nw);
-  // Kc = −Y Rd⁻ᵀ C, kc = −Y Rd⁻ᵀ e.
-  const Eigen::MatrixXd RinvTC = Rd.transpose().solve(n.C.topRows(m));
-  const Eigen::VectorXd RinvTe = Rd.transpose().solve(n.e.head(m));
-  p.Kc.noalias() = -Y * RinvTC;
-  p.kc.noalias() = -Y * RinvTe;
+  for (int r : general)
+    for (int j = 0; j < nu_; ++j)
+      if (n.D(r, j) != 0.0 && kind[j] != kFixed) kind[j] = kConstrained;
+  p.free.clear();
+  p.constrained.clear();
+  std::vector<int> fixed;
+  for (int j = 0; j < nu_; ++j)
+    (kind[j] == kFree ? p.free : kind[j] == kFixed ? fixed : p.constrained).push_back(j);
 
+  const int mg = static_cast<int>(general.size());
+  const int nK = static_cast<int>(p.constrained.size());
+  const int nF = static_cast<int>(p.free.size());
+  if (nK < mg) return false;
+  const auto& K = p.constrained;
+  const auto& F = p.free;
+  // The general rows with the fixed inputs substituted: D_K δu_K + C δx + e' = 0.
+  if (mg > 0) {
+    const Eigen::MatrixXd DK = n.D(general, K);
+    const Eigen::VectorXd e = n.e(general) + n.D(general, fixed) * p.kc(fixed);
+    const Eigen::HouseholderQR<Eigen::MatrixXd> qr(DK.transpose());
+    const Eigen::VectorXd pivots = qr.matrixQR().diagonal().head(mg).cwiseAbs();
+    if (!(pivots.minCoeff() > 1e-9 * std::max(1.0, pivots.maxCoeff()))) return false;
+    const Eigen::MatrixXd Qfull = qr.householderQ();
+    const auto Rd = qr.matrixQR().topLeftCorner(mg, mg).triangularView<Eigen::Upper>();
+    const auto Y = Qfull.leftCols(mg);
+    p.ZK = Qfull.rightCols(nK - mg);
+    p.KcK.noalias() = -Y * Rd.transpose().solve(n.C(general, Eigen::all));
+    p.kc(K) = -Y * Rd.transpose().solve(e);
+  } else {
+    p.ZK.setIdentity(nK, nK);
+    p.KcK.setZero(nK, n.nx());
+  }
+  const int nwK = static_cast<int>(p.ZK.cols());
+  p.nw = nF + nwK;
+
+  // Dynamics: A' = A + B_K Kc_K, B' = [B_F, B_K Z_K], b' = b + B kc.
+  const Eigen::MatrixXd BK = n.B(Eigen::all, K);
   p.A = n.A;
-  p.A.noalias() += n.B * p.Kc;
-  p.B.noalias() = n.B * p.Z;
+  p.A.noalias() += BK * p.KcK;
+  p.B.resize(nx_, p.nw);
+  p.B.leftCols(nF) = n.B(Eigen::all, F);
+  p.B.rightCols(nwK).noalias() = BK * p.ZK;
   p.b = n.b;
   p.b.noalias() += n.B * p.kc;
-  const Eigen::MatrixXd RKc = n.R * p.Kc;              // nu x nx
-  const Eigen::MatrixXd SplusRKc = n.S + RKc;           // nu x nx
+
+  // Cost in (δx, w).
+  const Eigen::MatrixXd RKc = n.R(Eigen::all, K) * p.KcK;  // R Kc, nu x nx
+  const Eigen::VectorXd Rkc = n.R * p.kc;
+  const Eigen::MatrixXd SK = n.S(K, Eigen::all);
   p.Q = n.Q;
-  p.Q.noalias() += p.Kc.transpose() * n.S;
-  p.Q.noalias() += n.S.transpose() * p.Kc;
-  p.Q.noalias() += p.Kc.transpose() * RKc;
-  p.S.noalias() = p.Z.transpose() * SplusRKc;
-  p.R.noalias() = p.Z.transpose() * n.R * p.Z;
+  p.Q.noalias() += p.KcK.transpose() * SK;
+  p.Q.noalias() += SK.transpose() * p.KcK;
+  p.Q.noalias() += p.KcK.transpose() * RKc(K, Eigen::all);
   p.q = n.q;
-  p.q.noalias() += p.Kc.transpose() * n.r;
-  p.q.noalias() += SplusRKc.transpose() * p.kc;
-  p.r.noalias() = p.Z.transpose() * (n.r + n.R * p.kc);
+  p.q.noalias() += p.KcK.transpose() * (n.r(K) + Rkc(K));
+  p.q.noalias() += n.S.transpose() * p.kc;
+  p.S.resize(p.nw, nx_);
+  p.S.topRows(nF) = n.S(F, Eigen::all) + RKc(F, Eigen::all);
+  p.S.bottomRows(nwK).noalias() = p.ZK.transpose() * (SK + RKc(K, Eigen::all));
+  p.R.resize(p.nw, p.nw);
+  p.R.topLeftCorner(nF, nF) = n.R(F, F);
+  p.R.topRightCorner(nF, nwK).noalias() = n.R(F, K) * p.ZK;
+  p.R.bottomLeftCorner(nwK, nF) = p.R.topRightCorner(nF, nwK).transpose();
+  p.R.bottomRightCorner(nwK, nwK).noalias() = p.ZK.transpose() * n.R(K, K) * p.ZK;
+  p.r.resize(p.nw);
+  p.r.head(nF) = n.r(F) + Rkc(F);
+  p.r.tail(nwK).noalias() = p.ZK.transpose() * (n.r(K) + Rkc(K));
   return true;
+}
+
+void RiccatiSolver::inputStep(const Projected& p, const Eigen::VectorXd& dx,
+                              const Eigen::VectorXd& w, Eigen::VectorXd& du) const {
+  const int nF = static_cast<int>(p.free.size());
+  du = p.kc;
+  du(p.free) += w.head(nF);
+  du(p.constrained) += p.KcK * dx + p.ZK * w.tail(p.nw - nF);
 }
 
 bool RiccatiSolver::solve(const std::vector<LqNode>& nodes, const Eigen::VectorXd& dx0,
@@ -118,8 +164,7 @@ bool RiccatiSolver::sweep(const std::vector<LqNode>& nodes, const Eigen::VectorX
   for (int k = 0; k < N_; ++k) {
     const Projected& n = proj_[k];
     const Eigen::VectorXd w = K_[k] * dx[k] + k_[k];
-    du[k] = n.Kc * dx[k] + n.kc + n.Z * w;
-    fullK_[k] = n.Kc + n.Z * K_[k];
+    inputStep(n, dx[k], w, du[k]);
     dx[k + 1] = nodes[k].A * dx[k] + nodes[k].B * du[k] + nodes[k].b;
   }
   timings_.riccatiMs = msSince(t0);

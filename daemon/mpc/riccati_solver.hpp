@@ -1,7 +1,10 @@
 // Solves the equality-constrained LQ problem of lq_problem.hpp over a horizon by projection and a
 // Riccati sweep:
-//  1. per node, the equalities are projected out: with Dᵀ = [Y Z][R; 0] (QR), every feasible
-//     δu = Kc δx + kc + Z w, Kc = −Y R⁻ᵀ C, kc = −Y R⁻ᵀ e, and w spans D's null space;
+//  1. per node, the equalities are projected out: every feasible δu = Kc δx + kc + Z w with w
+//     spanning D's null space. Inputs fall in three kinds, so the work goes only where it must:
+//     fixed ones (a row of D with a single entry and no C part, e.g. a swing point's force:
+//     δu_j = −e/d), constrained ones (in the other rows: the QR D_Kᵀ = [Y Z_K][R; 0] gives
+//     Kc_K = −Y R⁻ᵀ C, kc_K = −Y R⁻ᵀ e'), and free ones (in no row: w passes through);
 //  2. a backward Riccati recursion on (δx, w) gives the feedback w = K δx + k per node;
 //  3. a forward pass from δx_0 (the initial-state defect) rolls out δx and δu.
 // The result is the exact minimiser of the LQ problem (checked against a direct KKT solve in
@@ -22,7 +25,7 @@ struct RiccatiTimings {
 
 class RiccatiSolver {
  public:
-  RiccatiSolver(int horizonNodes, int nx, int nu, int maxEq);
+  RiccatiSolver(int horizonNodes, int nx, int nu);
 
   /// nodes[0..N-1] carry dynamics, constraints and stage cost; nodes[N] the terminal cost.
   /// dx0 is the initial-state deviation. Writes dx (N+1) and du (N). Returns false if the
@@ -38,22 +41,26 @@ class RiccatiSolver {
   bool sweep(const std::vector<LqNode>& nodes, const Eigen::VectorXd& dx0,
              std::vector<Eigen::VectorXd>& dx, std::vector<Eigen::VectorXd>& du);
 
-  /// Feedback gains δu = Ku δx + ku of the last solve, per node (for interpolating policies).
-  const Eigen::MatrixXd& feedback(int k) const { return fullK_[k]; }
   const RiccatiTimings& timings() const { return timings_; }
 
  private:
   struct Projected {
-    Eigen::MatrixXd A, B, Q, R, S, Kc, Z;
-    Eigen::VectorXd b, q, r, kc;
+    std::vector<int> free, constrained;  ///< input indices by kind (fixed ones: the rest)
+    Eigen::MatrixXd KcK, ZK;             ///< Kc rows of the constrained inputs, their null basis
+    Eigen::VectorXd kc;                  ///< nu
+    Eigen::MatrixXd A, B, Q, R, S;       ///< the LQ problem in (δx, w)
+    Eigen::VectorXd b, q, r;
     int nw = 0;
   };
+  /// δu for a state deviation and w (step 1 undone).
+  void inputStep(const Projected& p, const Eigen::VectorXd& dx, const Eigen::VectorXd& w,
+                 Eigen::VectorXd& du) const;
 
   int N_, nx_, nu_;
   std::vector<Projected> proj_;
-  std::vector<Eigen::MatrixXd> K_, fullK_;
+  std::vector<Eigen::MatrixXd> K_;
   std::vector<Eigen::VectorXd> k_;
-  Eigen::MatrixXd P_, PA_, PB_, Huu_, Hux_, Dt_;
+  Eigen::MatrixXd P_, PA_, PB_, Huu_, Hux_;
   Eigen::VectorXd p_, Pb_, hu_;
   RiccatiTimings timings_;
 };

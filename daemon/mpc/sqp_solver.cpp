@@ -23,7 +23,7 @@ SqpSolver::SqpSolver(const OptimalControlProblem& problem, const SqpSettings& se
     : problem_(problem),
       settings_(settings),
       pool_(std::max(1, settings.threads)),
-      riccati_(settings.nodes, problem.nx(), problem.nu(), problem.maxEqualities()),
+      riccati_(settings.nodes, problem.nx(), problem.nu()),
       references_(settings.nodes + 1),
       lq_(settings.nodes + 1, LqNode(problem.nx(), problem.nu(), problem.maxEqualities())),
       values_(settings.nodes),

@@ -72,7 +72,7 @@ void BM_MpcProjectNode(benchmark::State& st) {
   mpc::LqNode node(s.L.nx(), s.L.nu(), problem.maxEqualities());
   mpc::NodeValue value;
   problem.linearize(*ws, s.ref, s.x, s.u, 0.02, node, value);
-  mpc::RiccatiSolver riccati(1, s.L.nx(), s.L.nu(), problem.maxEqualities());
+  mpc::RiccatiSolver riccati(1, s.L.nx(), s.L.nu());
   for (auto _ : st) benchmark::DoNotOptimize(riccati.project(0, node));
 }
 BENCHMARK(BM_MpcProjectNode);
@@ -85,7 +85,7 @@ void BM_MpcRiccatiSweep(benchmark::State& st) {
   auto ws = problem.makeWorkspace();
   std::vector<mpc::LqNode> nodes(N + 1, mpc::LqNode(s.L.nx(), s.L.nu(), problem.maxEqualities()));
   mpc::NodeValue value;
-  mpc::RiccatiSolver riccati(N, s.L.nx(), s.L.nu(), problem.maxEqualities());
+  mpc::RiccatiSolver riccati(N, s.L.nx(), s.L.nu());
   for (int k = 0; k < N; ++k) {
     problem.linearize(*ws, s.ref, s.x, s.u, 0.02, nodes[k], value);
     riccati.project(k, nodes[k]);

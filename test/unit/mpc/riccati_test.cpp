@@ -40,7 +40,7 @@ TEST(RiccatiSolver, MatchesTheKktSolutionWithEqualities) {
         testing::randomLqProblem(N, nx, nu, maxEq, [](int k) { return k % 4; }, rng);
     const Eigen::VectorXd dx0 = Eigen::VectorXd::Random(nx);
     std::vector<Eigen::VectorXd> dx, du, dxRef, duRef;
-    RiccatiSolver solver(N, nx, nu, maxEq);
+    RiccatiSolver solver(N, nx, nu);
     ASSERT_TRUE(solver.solve(nodes, dx0, dx, du));
     testing::solveByKkt(nodes, dx0, dxRef, duRef);
     for (int k = 0; k <= N; ++k) EXPECT_LT((dx[k] - dxRef[k]).norm(), 1e-8 * (1 + dxRef[k].norm())) << k;
@@ -53,12 +53,51 @@ TEST(RiccatiSolver, MatchesTheKktSolutionWithEqualities) {
   }
 }
 
+TEST(RiccatiSolver, MatchesTheKktSolutionWithStructuredEqualities) {
+  // As in the planner: some inputs fixed by unit rows (swing forces), some tied by rows over a
+  // subset of inputs (contact velocities over joint velocities), the rest free (stance forces).
+  std::mt19937 rng(5);
+  const int N = 10, nx = 6, nu = 7, maxEq = 4;
+  for (int trial = 0; trial < 10; ++trial) {
+    auto nodes = testing::randomLqProblem(N, nx, nu, maxEq, [](int k) { return k % 3 == 0 ? 0 : 4; }, rng);
+    for (int k = 0; k < N; ++k) {
+      if (nodes[k].neq == 0) continue;
+      nodes[k].D.topRows(4).leftCols(3).setZero();  // inputs 0..2 appear in no row: free
+      nodes[k].D.row(0).setZero();                  // row 0 fixes input 3
+      nodes[k].D(0, 3) = 1.5;
+      nodes[k].C.row(0).setZero();
+      nodes[k].D.col(3).tail(3).setZero();
+      if (k % 2) {                                  // row 1 fixes input 6 too
+        nodes[k].D.row(1).setZero();
+        nodes[k].D(1, 6) = -0.7;
+        nodes[k].C.row(1).setZero();
+        nodes[k].neq = 3;
+        nodes[k].D.col(6).segment(2, 2).setZero();
+      }
+    }
+    const Eigen::VectorXd dx0 = Eigen::VectorXd::Random(nx);
+    std::vector<Eigen::VectorXd> dx, du, dxRef, duRef;
+    RiccatiSolver solver(N, nx, nu);
+    ASSERT_TRUE(solver.solve(nodes, dx0, dx, du));
+    testing::solveByKkt(nodes, dx0, dxRef, duRef);
+    for (int k = 0; k <= N; ++k) EXPECT_LT((dx[k] - dxRef[k]).norm(), 1e-8 * (1 + dxRef[k].norm())) << k;
+    for (int k = 0; k < N; ++k) EXPECT_LT((du[k] - duRef[k]).norm(), 1e-8 * (1 + duRef[k].norm())) << k;
+  }
+}
+
 TEST(RiccatiSolver, RejectsRankDeficientEqualities) {
   std::mt19937 rng(4);
   auto nodes = testing::randomLqProblem(4, 4, 3, 2, [](int) { return 2; }, rng);
   nodes[2].D.row(1) = 2.0 * nodes[2].D.row(0);  // dependent rows
   std::vector<Eigen::VectorXd> dx, du;
-  RiccatiSolver solver(4, 4, 3, 2);
+  RiccatiSolver solver(4, 4, 3);
+  EXPECT_FALSE(solver.solve(nodes, Eigen::VectorXd::Zero(4), dx, du));
+  // Two unit rows fixing the same input.
+  nodes = testing::randomLqProblem(4, 4, 3, 2, [](int) { return 2; }, rng);
+  nodes[1].D.setZero();
+  nodes[1].C.topRows(2).setZero();
+  nodes[1].D(0, 2) = 1.0;
+  nodes[1].D(1, 2) = 3.0;
   EXPECT_FALSE(solver.solve(nodes, Eigen::VectorXd::Zero(4), dx, du));
 }
 
