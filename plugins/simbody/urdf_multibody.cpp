@@ -49,11 +49,46 @@ class Builder {
  private:
   void addLink(const urdf::Link& link, SimTK::MobilizedBodyIndex body, const SimTK::Transform& X) {
     mb_.linkFrame[link.name] = UrdfMultibody::LinkFrame{body, X};
+    mb_.parentLink[link.name] = link.getParent() ? link.getParent()->name : "";
+    addCollisions(link, body, X);
     std::vector<urdf::JointSharedPtr> children = link.child_joints;
     std::stable_sort(children.begin(), children.end(), [&](const auto& a, const auto& b) {
       return order_.at(a->name) < order_.at(b->name);
     });
     for (const auto& joint : children) addJoint(*joint, body, X);
+  }
+
+  void addCollisions(const urdf::Link& link, SimTK::MobilizedBodyIndex body,
+                     const SimTK::Transform& X) {
+    std::vector<urdf::CollisionSharedPtr> elements = link.collision_array;
+    if (elements.empty() && link.collision) elements.push_back(link.collision);
+    for (const auto& c : elements) {
+      if (!c || !c->geometry) continue;
+      UrdfMultibody::CollisionShape shape;
+      shape.link = link.name;
+      shape.body = body;
+      shape.inBody = X * toTransform(c->origin);
+      switch (c->geometry->type) {
+        case urdf::Geometry::BOX: {
+          const auto& box = static_cast<const urdf::Box&>(*c->geometry);
+          shape.halfSize = SimTK::Vec3(box.dim.x, box.dim.y, box.dim.z) / 2;
+          break;
+        }
+        case urdf::Geometry::SPHERE:
+          shape.kind = UrdfMultibody::CollisionShape::Kind::kSphere;
+          shape.halfSize[0] = static_cast<const urdf::Sphere&>(*c->geometry).radius;
+          break;
+        case urdf::Geometry::CYLINDER: {  // its axis is z
+          const auto& cyl = static_cast<const urdf::Cylinder&>(*c->geometry);
+          shape.halfSize = SimTK::Vec3(cyl.radius, cyl.radius, cyl.length / 2);
+          break;
+        }
+        default:
+          ++mb_.collisionSkipped;
+          continue;
+      }
+      mb_.collisionShapes.push_back(shape);
+    }
   }
 
   void addJoint(const urdf::Joint& joint, SimTK::MobilizedBodyIndex parent,
@@ -99,6 +134,11 @@ class Builder {
       mb_.jointNames.push_back(joint.name);
       mb_.jointBody[joint.name] = index;
       mb_.effortLimit[joint.name] = joint.limits ? joint.limits->effort : 0.0;
+      const bool bounded = joint.type != urdf::Joint::CONTINUOUS && joint.limits &&
+                           joint.limits->lower < joint.limits->upper;
+      mb_.positionLimits[joint.name] =
+          bounded ? std::make_pair(joint.limits->lower, joint.limits->upper)
+                  : std::make_pair(-SimTK::Infinity, SimTK::Infinity);
     }
     addLink(*child, index, SimTK::Transform());
   }

@@ -8,6 +8,9 @@
 // massive ancestor (linkFrame). Simbody's Free mobilizer has q = (quaternion, position) and
 // u = (ω, v) with world axes; the Pin's q and u are the joint angle and rate.
 //
+// For the simulation backend it also keeps what the URDF says about collisions (box, sphere and
+// cylinder <collision> elements, on their bodies), joint position limits and the link tree.
+//
 // Compile users with -UNDEBUG (see DEPENDENCIES.md and ballast_use_simbody()).
 #pragma once
 
@@ -38,6 +41,22 @@ struct UrdfMultibody {
   std::map<std::string, SimTK::MobilizedBodyIndex> jointBody;  ///< movable joint -> body it moves
   std::map<std::string, LinkFrame> linkFrame;          ///< every link
   std::map<std::string, double> effortLimit;           ///< movable joint -> URDF effort
+  /// Movable joint -> URDF position limits (lower, upper); ±infinity for continuous joints.
+  std::map<std::string, std::pair<double, double>> positionLimits;
+  std::map<std::string, std::string> parentLink;       ///< link -> parent link ("" for the root)
+
+  /// A URDF <collision> element on its body. Cylinders are kept as their bounding box; meshes
+  /// are not kept (collisionSkipped counts them).
+  struct CollisionShape {
+    enum class Kind { kBox, kSphere };
+    std::string link;
+    SimTK::MobilizedBodyIndex body;
+    SimTK::Transform inBody;  ///< shape frame in the body frame
+    Kind kind = Kind::kBox;
+    SimTK::Vec3 halfSize{0};  ///< box half extents; sphere: radius in [0]
+  };
+  std::vector<CollisionShape> collisionShapes;
+  int collisionSkipped = 0;
 
   const SimTK::MobilizedBody& body(SimTK::MobilizedBodyIndex i) const {
     return matter.getMobilizedBody(i);

@@ -1,0 +1,258 @@
+#include "simbody_backend.hpp"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+namespace ballast::simbody {
+namespace {
+
+using backend::Status;
+
+bool readable(const std::string& path) { return access(path.c_str(), R_OK) == 0; }
+
+/// The settings' terrain_map, as given if readable, else next to the profile.
+std::string resolveMap(const SimSettings& s) {
+  if (s.terrain_map.empty() || s.terrain_map[0] == '/' || readable(s.terrain_map))
+    return s.terrain_map;
+  const std::string profile = s.origin.substr(0, s.origin.rfind(':'));
+  const auto slash = profile.rfind('/');
+  const std::string dir = slash == std::string::npos ? "." : profile.substr(0, slash);
+  const std::string beside = dir + "/" + s.terrain_map;
+  if (readable(beside)) return beside;
+  throw std::runtime_error(s.where("terrain_map") + "cannot read " + s.terrain_map +
+                           " (nor " + beside + ")");
+}
+
+timespec now() {
+  timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return t;
+}
+
+void addSeconds(timespec& t, double seconds) {
+  const long ns = std::lround(seconds * 1e9);
+  t.tv_sec += ns / 1000000000L;
+  t.tv_nsec += ns % 1000000000L;
+  if (t.tv_nsec >= 1000000000L) t.tv_nsec -= 1000000000L, ++t.tv_sec;
+}
+
+double secondsBetween(const timespec& a, const timespec& b) {
+  return static_cast<double>(b.tv_sec - a.tv_sec) + 1e-9 * static_cast<double>(b.tv_nsec - a.tv_nsec);
+}
+
+}  // namespace
+
+bool SimbodyBackend::configure(const backend::Config& config, backend::Error& error) {
+  started_ = faulted_ = false;
+  world_.reset();
+  try {
+    settings_ = parseSimSettings(config.section_yaml ? config.section_yaml : "",
+                                 config.section_origin ? config.section_origin : "");
+    if (!(config.period > 0.0 && config.period <= 0.1))
+      throw std::runtime_error("Config::period " + std::to_string(config.period) +
+                               " s: the control period must be in (0, 0.1] s");
+    if (!config.urdf_path || !*config.urdf_path)
+      throw std::runtime_error("Config::urdf_path is empty: the simulation needs the robot's URDF");
+    WorldOptions options;
+    options.urdfPath = config.urdf_path;
+    for (int i = 0; i < config.num_contacts; ++i) {
+      if (!config.contact_frames || !config.contact_frames[i])
+        throw std::runtime_error("Config::contact_frames[" + std::to_string(i) + "] is missing");
+      options.contactFrames.emplace_back(config.contact_frames[i]);
+    }
+    options.settings = settings_;
+    options.terrainMap = settings_.terrain_map.empty()
+                             ? std::string(config.terrain_map ? config.terrain_map : "")
+                             : resolveMap(settings_);
+    if (!settings_.terrain_map.empty()) options.terrainMapWhere = settings_.where("terrain_map");
+    world_ = std::make_unique<SimbodyWorld>(options);
+
+    period_ = config.period;
+    lockstep_ = config.lockstep;
+    caps_ = backend::Capabilities{};
+    std::snprintf(caps_.name, sizeof caps_.name, "simbody");
+    caps_.simulation = true;
+    caps_.lockstep = true;
+    caps_.ground_truth = true;
+    caps_.lidar = lidarEnabled_ = settings_.lidar_enabled;
+    caps_.disturbance = true;
+    caps_.num_joints = world_->numJoints();
+    for (int j = 0; j < caps_.num_joints; ++j)
+      std::snprintf(caps_.joint_names[j], backend::kNameLength, "%s",
+                    world_->jointNames()[static_cast<std::size_t>(j)].c_str());
+    sensors_.configure(settings_, period_, config.seed);
+    if (lidarEnabled_) lidar_.configure(settings_, config.seed);
+    queue_.assign(static_cast<std::size_t>(settings_.motor_latency_ticks + 1), QueuedCommands{});
+  } catch (const std::exception& e) {
+    world_.reset();
+    copyMessage(error, e.what());
+    return false;
+  } catch (...) {  // nothing may cross the plugin boundary
+    world_.reset();
+    copyMessage(error, "simbody: configure failed with an unknown exception");
+    return false;
+  }
+  copyMessage(error, "");
+  return true;
+}
+
+bool SimbodyBackend::start(backend::Error& error) {
+  if (!world_) {
+    copyMessage(error, "simbody: start() before a successful configure()");
+    return false;
+  }
+  try {
+    world_->reset();
+  } catch (const std::exception& e) {
+    copyMessage(error, e.what());
+    return false;
+  } catch (...) {
+    copyMessage(error, "simbody: start failed with an unknown exception");
+    return false;
+  }
+  for (QueuedCommands& q : queue_) q.tick = -1;
+  tick_ = 0;
+  overruns_ = 0;
+  sensors_.start();
+  if (lidarEnabled_) lidar_.start(0.0);
+  sample_ = backend::Sensors{};
+  lastReadSequence_ = 0;
+  sampleSensors();
+  started_ = true;
+  faulted_ = false;
+  copyMessage(lastError_, "");
+  copyMessage(error, "");
+  return true;
+}
+
+backend::Status SimbodyBackend::fault(const char* message) {
+  copyMessage(lastError_, message);
+  return Status::kFault;
+}
+
+void SimbodyBackend::sampleSensors() {
+  sensors_.sample(*world_, sample_);
+  sample_.time = world_->time();
+  ++sample_.sequence;
+}
+
+backend::Status SimbodyBackend::read(backend::Sensors& sensors) {
+  if (!started_) return fault("simbody: read() on a backend that is not started");
+  if (faulted_) return Status::kFault;
+  sensors = sample_;
+  if (sample_.sequence == lastReadSequence_) return Status::kStale;
+  lastReadSequence_ = sample_.sequence;
+  return Status::kOk;
+}
+
+backend::Status SimbodyBackend::write(const backend::Commands& commands) {
+  if (!started_) return fault("simbody: write() on a backend that is not started");
+  if (faulted_) return Status::kFault;
+  const int n = world_->numJoints();
+  if (commands.num_joints != n) {
+    char msg[160];
+    std::snprintf(msg, sizeof msg, "simbody: commands for %d joints, the robot has %d; ignored",
+                  commands.num_joints, n);
+    copyMessage(lastError_, msg);
+    return Status::kFault;
+  }
+  for (int j = 0; j < n; ++j) {
+    const backend::JointCommand& c = commands.joint[j];
+    const char* bad = !std::isfinite(c.tau_ff)   ? "tau_ff is not finite"
+                      : !std::isfinite(c.q_des)  ? "q_des is not finite"
+                      : !std::isfinite(c.dq_des) ? "dq_des is not finite"
+                      : !(c.kp >= 0.0 && std::isfinite(c.kp)) ? "kp is negative or not finite"
+                      : !(c.kd >= 0.0 && std::isfinite(c.kd)) ? "kd is negative or not finite"
+                                                              : nullptr;
+    if (bad) {
+      char msg[200];
+      std::snprintf(msg, sizeof msg, "simbody: joint %d (%s): %s; commands ignored", j,
+                    caps_.joint_names[j], bad);
+      copyMessage(lastError_, msg);
+      return Status::kFault;
+    }
+  }
+  QueuedCommands& slot = queue_[tick_ % queue_.size()];
+  slot.tick = static_cast<std::int64_t>(tick_);
+  std::copy(commands.joint, commands.joint + n, slot.joint);
+  return Status::kOk;
+}
+
+backend::Status SimbodyBackend::advance() {
+  if (!started_) return fault("simbody: advance() on a backend that is not started");
+  if (faulted_) return Status::kFault;
+  if (!lockstep_ && tick_ == 0) deadline_ = now();  // the schedule starts with the first tick
+  const std::int64_t due = static_cast<std::int64_t>(tick_) - settings_.motor_latency_ticks;
+  const QueuedCommands& slot = queue_[static_cast<std::size_t>(due >= 0 ? due : 0) % queue_.size()];
+  if (due >= 0 && slot.tick == due) world_->setMotorCommands(slot.joint);
+  try {
+    world_->stepTo(static_cast<double>(tick_ + 1) * period_);
+    ++tick_;
+    if (lidarEnabled_) lidar_.tick(world_->time(), world_->lidarPose(), world_->terrain());
+    sampleSensors();
+  } catch (const std::exception& e) {
+    faulted_ = true;
+    return fault(e.what());
+  } catch (...) {
+    faulted_ = true;
+    return fault("simbody: the simulation failed with an unknown exception");
+  }
+  if (lockstep_) return Status::kOk;
+
+  addSeconds(deadline_, period_);
+  const timespec t = now();
+  const double late = secondsBetween(deadline_, t);
+  if (late > 0.0) {
+    ++overruns_;
+    char msg[160];
+    std::snprintf(msg, sizeof msg, "simbody: tick %llu ended %.3f ms after its deadline (%llu overruns)",
+                  static_cast<unsigned long long>(tick_), late * 1e3,
+                  static_cast<unsigned long long>(overruns_));
+    copyMessage(lastError_, msg);
+    deadline_ = t;
+    return Status::kOverrun;
+  }
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &deadline_, nullptr) == EINTR) {
+  }
+  return Status::kOk;
+}
+
+void SimbodyBackend::stop() {
+  if (started_ && world_ && !faulted_) {
+    backend::JointCommand off[backend::kMaxJoints] = {};
+    world_->setMotorCommands(off);
+  }
+  started_ = false;
+}
+
+bool SimbodyBackend::push(const backend::Push& push, backend::Error& error) {
+  if (!started_ || faulted_) {
+    copyMessage(error, "simbody: push() needs a started, healthy simulation");
+    return false;
+  }
+  try {
+    const std::string body(push.body, strnlen(push.body, sizeof push.body));
+    std::string message;
+    if (!world_->push(body, SimTK::Vec3(push.force[0], push.force[1], push.force[2]),
+                      push.duration, message)) {
+      copyMessage(error, ("simbody: " + message).c_str());
+      return false;
+    }
+  } catch (...) {
+    copyMessage(error, "simbody: push failed with an unknown exception");
+    return false;
+  }
+  copyMessage(error, "");
+  return true;
+}
+
+bool SimbodyBackend::lidarScan(backend::PointCloudView& scan) {
+  return started_ && lidarEnabled_ && lidar_.take(scan);
+}
+
+}  // namespace ballast::simbody

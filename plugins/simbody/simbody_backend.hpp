@@ -1,0 +1,114 @@
+// The Simbody simulation backend: plugins/backend_abi.hpp implemented on SimbodyWorld.
+// Built as build/lib/ballast/libballast_backend_simbody.so (entry symbol ballast_backend_entry);
+// ballastd loads it with backend::Plugin::load("simbody").
+//
+// Using it (the daemon does exactly this; tests and benchmarks too):
+//
+//   auto plugin = ballast::backend::Plugin::load("simbody");
+//   ballast::backend::BackendPtr sim = plugin->create();
+//   const char* contacts[] = {"left_toe", "left_heel", "right_toe", "right_heel"};
+//   ballast::backend::Config config;
+//   config.section_yaml = "friction: 0.9\nmotor_latency_ticks: 1\n";  // see sim_settings.hpp
+//   config.section_origin = "profiles/sim-flat.yaml:40";
+//   config.urdf_path = "urdf/humanoid.urdf";
+//   config.terrain_map = "";            // flat floor; or an OctoMap .bt/.ot
+//   config.contact_frames = contacts;
+//   config.num_contacts = 4;
+//   config.period = 0.001;
+//   config.lockstep = true;             // advance() = one period of simulation, no sleeping
+//   config.seed = 42;
+//   ballast::backend::Error error;
+//   if (!sim->configure(config, error) || !sim->start(error)) die(error.message);
+//   for (;;) {                          // one control tick
+//     sim->read(sensors);               // kOk, or kStale if nothing new since the last read
+//     ... controller ...
+//     sim->write(commands);             // per joint tau_ff, q_des, dq_des, kp, kd
+//     sim->advance();                   // kOverrun (real time, late), kFault (see lastError())
+//   }
+//
+// Orders: joints are the URDF's movable joints in file order (capabilities().joint_names;
+// Commands and Sensors use it); contacts (Truth::contact_force, Truth::contact) follow
+// Config::contact_frames. Truth is filled (Sensors::has_truth) for diagnostics and scoring;
+// Truth::contact[i] means contact point i's spheres carry load, Truth::non_foot_contact that any
+// other body touches the terrain.
+//
+// start() puts the robot at rest in its initial posture (sim_settings.hpp: initial_*; by
+// default standing with its soles on the terrain at the origin, facing +x) with the motors off:
+// the first read() gives the posture to hold. Every call comes from one thread (the control
+// loop's); a Backend instance is not shared.
+//
+// Per tick: write() validates and queues the commands; advance() applies the commands due
+// (written motor_latency_ticks ticks ago; motors keep the last command if none is due, and are
+// off until the first arrives), integrates one period, advances the lidar sweep and samples the
+// sensors once. read() copies that sample. In real time (Config::lockstep false) advance() then
+// sleeps to an absolute deadline (the first advance() + k periods; clock_nanosleep on
+// CLOCK_MONOTONIC); a tick that ends past its deadline returns kOverrun, is counted
+// (overruns()) and the schedule restarts from now. The simulation itself runs at about 7-10x
+// real time (test/bench/sim), so the controller has most of each period.
+// Bad commands (wrong joint count, NaN/inf, negative gains) return kFault and are ignored (the
+// motors keep the previous ones). A failed or diverged simulation returns kFault from then on.
+// read() and write() never allocate; advance() allocates inside Simbody's integrator.
+#pragma once
+
+#include <cstdint>
+#include <ctime>
+#include <memory>
+#include <vector>
+
+#include "backend_abi.hpp"
+#include "lidar.hpp"
+#include "sensor_model.hpp"
+#include "sim_settings.hpp"
+#include "simbody_world.hpp"
+
+namespace ballast::simbody {
+
+class SimbodyBackend final : public backend::Backend {
+ public:
+  bool configure(const backend::Config& config, backend::Error& error) override;
+  const backend::Capabilities& capabilities() const override { return caps_; }
+  bool start(backend::Error& error) override;
+  backend::Status read(backend::Sensors& sensors) override;
+  backend::Status write(const backend::Commands& commands) override;
+  backend::Status advance() override;
+  const backend::Error& lastError() const override { return lastError_; }
+  void stop() override;
+  bool push(const backend::Push& push, backend::Error& error) override;
+  bool lidarScan(backend::PointCloudView& scan) override;
+
+  // Not part of the ABI: for tests and benchmarks that link the backend directly.
+  SimbodyWorld& world() { return *world_; }
+  const SimSettings& settings() const { return settings_; }
+  std::uint64_t overruns() const { return overruns_; }
+  std::uint64_t ticks() const { return tick_; }
+
+ private:
+  backend::Status fault(const char* message);
+  void sampleSensors();
+
+  backend::Capabilities caps_;
+  backend::Error lastError_;
+  SimSettings settings_;
+  std::unique_ptr<SimbodyWorld> world_;
+  SensorModel sensors_;
+  RollingLidar lidar_;
+  bool lidarEnabled_ = false;
+  double period_ = 0.001;
+  bool lockstep_ = true;
+  bool started_ = false, faulted_ = false;
+
+  // Commands in flight: slot k % size holds what was written during tick k.
+  struct QueuedCommands {
+    std::int64_t tick = -1;
+    backend::JointCommand joint[backend::kMaxJoints];
+  };
+  std::vector<QueuedCommands> queue_;
+
+  std::uint64_t tick_ = 0;  ///< advances since start()
+  backend::Sensors sample_;
+  std::uint64_t lastReadSequence_ = 0;
+  std::uint64_t overruns_ = 0;
+  timespec deadline_{};
+};
+
+}  // namespace ballast::simbody

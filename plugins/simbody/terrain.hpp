@@ -1,0 +1,64 @@
+// The simulated terrain: an OctoMap map turned into a height field of solid columns, plus an
+// optional infinite floor plane. World frame, z up, metres.
+//
+// Each occupied leaf of the map fills the columns (map-resolution squares) it covers up to its
+// top face; a column is solid from its top down (overhangs become solid). So a 10 cm stage in a
+// 2 cm map is a block with vertical sides and sharp edges: a foot can stand on it and catch its
+// edge. Queries are exact for this geometry:
+//   - signedDistance(): distance from a point to the union of the columns and the floor, with
+//     the outward surface normal (a point beside a stage sees the side face or the edge);
+//   - castRay(): the first hit along a ray (simulated lidar);
+//   - heightAt(): the top of the terrain at (x, y).
+// None of them allocates.
+#pragma once
+
+#include <Simbody.h>
+
+#include <string>
+#include <vector>
+
+namespace ballast::simbody {
+
+class Terrain {
+ public:
+  /// A floor at floorHeight only.
+  static Terrain flat(double floorHeight);
+  /// The map in path (.bt or .ot), with or without a floor. Throws std::runtime_error naming
+  /// the file and what is wrong.
+  static Terrain fromOctomap(const std::string& path, bool floor, double floorHeight);
+  /// Columns given directly: tops[ix + nx * iy] (−infinity for none) over cells of size
+  /// resolution whose grid starts at (x0, y0). For tests and tools.
+  static Terrain fromHeights(double x0, double y0, double resolution, int nx, int ny,
+                             std::vector<float> tops, bool floor, double floorHeight);
+
+  /// Signed distance from p to the terrain surface (negative inside) and the outward normal
+  /// there, considering only surface within `reach` of p (farther: returns false).
+  bool signedDistance(const SimTK::Vec3& p, double reach, double& distance,
+                      SimTK::Vec3& normal) const;
+  /// First hit of origin + t·direction (direction unit) for t in [0, maxRange].
+  bool castRay(const SimTK::Vec3& origin, const SimTK::Vec3& direction, double maxRange,
+               double& t) const;
+  /// Top of the terrain at (x, y); −infinity where there is none.
+  double heightAt(double x, double y) const;
+  /// Highest point of the terrain (−infinity if empty).
+  double maxHeight() const { return maxTop_; }
+  double resolution() const { return res_; }
+  bool hasFloor() const { return floor_; }
+  int columns() const { return nx_ * ny_; }
+
+ private:
+  float top(int ix, int iy) const { return tops_[static_cast<std::size_t>(ix + nx_ * iy)]; }
+  /// Distance from p to column (ix, iy) (negative inside, measured to its top).
+  double columnDistance(const SimTK::Vec3& p, int ix, int iy, SimTK::Vec3& normal) const;
+  bool castRayColumns(const SimTK::Vec3& o, const SimTK::Vec3& d, double tMax, double& t) const;
+
+  bool floor_ = true;
+  double floorHeight_ = 0.0;
+  double x0_ = 0.0, y0_ = 0.0, res_ = 1.0;
+  int nx_ = 0, ny_ = 0;
+  std::vector<float> tops_;
+  double maxTop_ = -SimTK::Infinity;
+  double maxColumnTop_ = -SimTK::Infinity;
+};
+
+}  // namespace ballast::simbody
