@@ -1,0 +1,394 @@
+#include "wbc/whole_body_controller.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+
+#include "model/configuration.hpp"
+#include "model/crba.hpp"
+#include "model/frames.hpp"
+#include "model/rnea.hpp"
+
+namespace ballast::wbc {
+
+const char* toString(WbcStatus status) {
+  switch (status) {
+    case WbcStatus::kOk: return "ok";
+    case WbcStatus::kRelaxed: return "relaxed";
+    case WbcStatus::kDegraded: return "degraded";
+    case WbcStatus::kInvalidInput: return "invalid input";
+  }
+  return "unknown";
+}
+
+namespace {
+constexpr int kFrictionRows = 5;  // rows of C_lc per contact point
+
+const WbcSettings& validated(const WbcSettings& settings, const model::Model& model) {
+  const std::string error = validateSettings(settings, model);
+  if (!error.empty()) throw std::invalid_argument(error);
+  return settings;
+}
+
+int limbRows(const WbcSettings& s) { return 3 * static_cast<int>(s.contactFrames.size()) +
+                                            static_cast<int>(s.jointSpaceJoints.size()); }
+/// Contact points on the same body (toe and heel of a foot): index pairs into contactFrames.
+std::vector<std::pair<int, int>> sameBodyPairs(const model::Model& m, const WbcSettings& s) {
+  std::vector<std::pair<int, int>> pairs;
+  const int nc = static_cast<int>(s.contactFrames.size());
+  std::vector<bool> used(nc, false);
+  for (int i = 0; i < nc; ++i)
+    for (int k = i + 1; k < nc && !used[i]; ++k)
+      if (!used[k] && m.frames[m.frameId(s.contactFrames[i])].body ==
+                          m.frames[m.frameId(s.contactFrames[k])].body) {
+        pairs.emplace_back(i, k);
+        used[i] = used[k] = true;
+      }
+  return pairs;
+}
+int physicsRows(const model::Model& m, const WbcSettings& s) {
+  return 6 + 3 * static_cast<int>(s.contactFrames.size()) + static_cast<int>(sameBodyPairs(m, s).size());
+}
+int maxLevelRows(const model::Model& m, const WbcSettings& s) {
+  const int nc3 = 3 * static_cast<int>(s.contactFrames.size());
+  return std::max(physicsRows(m, s), limbRows(s) + 6 + nc3);
+}
+int inequalityRows(const model::Model& m, const WbcSettings& s) {
+  return m.nj() + kFrictionRows * static_cast<int>(s.contactFrames.size());
+}
+int equalityRows(const model::Model& m, const WbcSettings& s) {
+  return physicsRows(m, s) + 2 * (limbRows(s) + 6 + 3 * static_cast<int>(s.contactFrames.size()));
+}
+}  // namespace
+
+WholeBodyController::WholeBodyController(const model::Model& model, const WbcSettings& settings)
+    : model_(model),
+      settings_(validated(settings, model)),
+      nv_(model.nv),
+      nj_(model.nj()),
+      nc_(static_cast<int>(settings.contactFrames.size())),
+      nx_(model.nv + 3 * nc_),
+      baseFrame_(model.frameId(settings.baseFrame)),
+      data_(model),
+      tasks_(nx_, kStackLevels, equalityRows(model, settings), inequalityRows(model, settings)),
+      weighted_(nx_, kStackLevels, equalityRows(model, settings), inequalityRows(model, settings)),
+      hqp_(nx_, kStackLevels, maxLevelRows(model, settings), inequalityRows(model, settings)) {
+  for (const auto& name : settings_.contactFrames) contactFrames_.push_back(model.frameId(name));
+  footPairs_ = sameBodyPairs(model, settings_);
+  Jframe_.setZero(6, nv_);
+  for (const auto& name : settings_.jointSpaceJoints) jointSpaceJoints_.push_back(model.jointId(name));
+  torqueLimit_ = settings_.torqueLimit.empty()
+                     ? model.effortLimit
+                     : Eigen::Map<const Eigen::VectorXd>(settings_.torqueLimit.data(), nj_).eval();
+  q_.setZero(model.nq);
+  Jc_.setZero(3 * nc_, nv_);
+  contactBias_.setZero(3 * nc_);
+  contactPosition_.setZero(3, nc_);
+  contactVelocity_.setZero(3, nc_);
+  Jb_.setZero(6, nv_);
+  xi_.setZero(nx_);
+
+  HqpSettings& hs = hqp_.settings();
+  hs.regularization = settings_.regularization;
+  hs.qp.maxIterations = settings_.maxQpIterations;
+  const double forceScale = model.totalMass() * model.gravity.norm() / nc_;
+  Eigen::VectorXd scale = Eigen::VectorXd::Ones(nx_);
+  scale.tail(3 * nc_).setConstant(forceScale > 0.0 ? forceScale : 1.0);
+  hqp_.setVariableScale(scale);
+}
+
+WbcState WholeBodyController::makeState() const {
+  WbcState s;
+  s.q = model::neutralConfiguration(model_);
+  s.v.setZero(nv_);
+  return s;
+}
+
+WbcReference WholeBodyController::makeReference() const {
+  WbcReference r;
+  r.stance.assign(nc_, true);
+  r.contactPosition.setZero(3, nc_);
+  r.contactVelocity.setZero(3, nc_);
+  r.contactAcceleration.setZero(3, nc_);
+  r.jointPosition.setZero(nj_);
+  r.jointVelocity.setZero(nj_);
+  r.jointAcceleration.setZero(nj_);
+  r.contactForce.setZero(3 * nc_);
+  return r;
+}
+
+WbcOutput WholeBodyController::makeOutput() const {
+  WbcOutput o;
+  o.jointTorque.setZero(nj_);
+  o.jointPositionTarget.setZero(nj_);
+  o.jointVelocityTarget.setZero(nj_);
+  o.acceleration.setZero(nv_);
+  o.contactForce.setZero(3 * nc_);
+  return o;
+}
+
+bool WholeBodyController::inputValid(const WbcState& state, const WbcReference& r) const {
+  if (state.q.size() != model_.nq || state.v.size() != nv_ || !state.q.allFinite() ||
+      !state.v.allFinite())
+    return false;
+  const double quatNorm = state.q.segment<4>(3).norm();
+  if (quatNorm < 0.5 || quatNorm > 1.5) return false;
+  if (static_cast<int>(r.stance.size()) != nc_ || r.contactPosition.cols() != nc_ ||
+      r.contactVelocity.cols() != nc_ || r.contactAcceleration.cols() != nc_ ||
+      r.jointPosition.size() != nj_ || r.jointVelocity.size() != nj_ ||
+      r.jointAcceleration.size() != nj_ || r.contactForce.size() != 3 * nc_)
+    return false;
+  return r.contactPosition.allFinite() && r.contactVelocity.allFinite() &&
+         r.contactAcceleration.allFinite() && r.jointPosition.allFinite() &&
+         r.jointVelocity.allFinite() && r.jointAcceleration.allFinite() &&
+         r.basePosition.allFinite() && r.baseOrientation.coeffs().allFinite() &&
+         r.baseOrientation.norm() > 0.5 && r.baseLinearVelocity.allFinite() &&
+         r.baseAngularVelocity.allFinite() && r.baseLinearAcceleration.allFinite() &&
+         r.baseAngularAcceleration.allFinite() && r.contactForce.allFinite();
+}
+
+void WholeBodyController::computeKinematics(const WbcState& state) {
+  q_ = state.q;
+  q_.segment<4>(3).normalize();
+  model::crba(model_, data_, q_);
+  model::nonLinearEffects(model_, data_, q_, state.v);
+  model::forwardKinematicsBias(model_, data_, q_, state.v);  // velocities, and a = J̇v
+  for (int i = 0; i < nc_; ++i) {
+    const int f = contactFrames_[i];
+    model::frameJacobian(model_, data_, f, Jc_.middleRows(3 * i, 3));
+    contactBias_.segment<3>(3 * i) = model::frameClassicalAcceleration(model_, data_, f).linear;
+    contactPosition_.col(i) = model::framePlacement(model_, data_, f).p;
+    contactVelocity_.col(i) = model::frameVelocity(model_, data_, f).linear;
+  }
+  model::frameJacobian(model_, data_, baseFrame_, Jb_);
+  const auto bias = model::frameClassicalAcceleration(model_, data_, baseFrame_);
+  baseBias_ << bias.linear, bias.angular;
+  const auto velocity = model::frameVelocity(model_, data_, baseFrame_);
+  baseVelocity_ << velocity.linear, velocity.angular;
+  const auto placement = model::framePlacement(model_, data_, baseFrame_);
+  basePosition_ = placement.p;
+  baseRotation_ = placement.R;
+}
+
+void WholeBodyController::buildTasks(const WbcState& state, const WbcReference& ref) {
+  const auto& M = data_.M;
+  const auto& n = data_.nle;
+  const int nF = 3 * nc_;
+  tasks_.clear();
+
+  // 0: physics.
+  tasks_.beginLevel();
+  {
+    auto rows = tasks_.addEqualities(6 + nF);
+    rows.A.topLeftCorner(6, nv_) = M.topRows(6);
+    rows.A.topRightCorner(6, nF) = -Jc_.leftCols(6).transpose();
+    rows.b.head(6) = -n.head(6);
+    for (int i = 0; i < nc_; ++i) {
+      if (ref.stance[i]) {
+        rows.A.block(6 + 3 * i, 0, 3, nv_) = Jc_.middleRows(3 * i, 3);
+        rows.b.segment<3>(6 + 3 * i) = -contactBias_.segment<3>(3 * i);
+      } else {
+        rows.A.block<3, 3>(6 + 3 * i, nv_ + 3 * i).setIdentity();
+      }
+    }
+    // A foot standing on both its points does not roll about the line through them: real feet
+    // have width. Without this row the roll is free in the point-contact model, and lower levels
+    // use it (huge ankle-roll accelerations) to bend the force distribution, which the ground
+    // then answers with lateral forces the controller never planned.
+    for (const auto& [i, k] : footPairs_) {
+      const Eigen::Vector3d line = contactPosition_.col(i) - contactPosition_.col(k);
+      if (!ref.stance[i] || !ref.stance[k] || line.norm() < 1e-6) continue;
+      const Eigen::Vector3d axis = line / line.norm();
+      model::frameJacobian(model_, data_, contactFrames_[i], Jframe_);
+      auto row = tasks_.addEqualities(1);
+      row.A.leftCols(nv_).noalias() = axis.transpose() * Jframe_.bottomRows<3>();
+      row.b[0] = -axis.dot(model::frameClassicalAcceleration(model_, data_, contactFrames_[i]).angular);
+    }
+  }
+  // 1: torque limits and friction pyramids.
+  tasks_.beginLevel();
+  {
+    int stanceCount = 0;
+    for (int i = 0; i < nc_; ++i) stanceCount += ref.stance[i] ? 1 : 0;
+    auto rows = tasks_.addInequalities(nj_ + kFrictionRows * stanceCount);
+    rows.D.topLeftCorner(nj_, nv_) = M.bottomRows(nj_);
+    rows.D.topRightCorner(nj_, nF) = -Jc_.rightCols(nj_).transpose();
+    rows.lower.head(nj_) = -torqueLimit_ - n.tail(nj_);
+    rows.upper.head(nj_) = torqueLimit_ - n.tail(nj_);
+    const double mu = settings_.frictionCoefficient;
+    int row = nj_;
+    for (int i = 0; i < nc_; ++i) {
+      if (!ref.stance[i]) continue;
+      auto C = rows.D.block<kFrictionRows, 3>(row, nv_ + 3 * i);
+      C << 0, 0, -1,  //
+          1, 0, -mu,  //
+          -1, 0, -mu,  //
+          0, 1, -mu,  //
+          0, -1, -mu;
+      rows.upper.segment<kFrictionRows>(row).setZero();
+      row += kFrictionRows;
+    }
+  }
+  // 2: limbs: swing contact points in the world, joint-space joints.
+  tasks_.beginLevel();
+  {
+    int swingCount = 0;
+    for (int i = 0; i < nc_; ++i) swingCount += ref.stance[i] ? 0 : 1;
+    const int nJoint = static_cast<int>(jointSpaceJoints_.size());
+    auto rows = tasks_.addEqualities(3 * swingCount + nJoint);
+    int row = 0;
+    for (int i = 0; i < nc_; ++i) {
+      if (ref.stance[i]) continue;
+      rows.A.block(row, 0, 3, nv_) = Jc_.middleRows(3 * i, 3);
+      rows.b.segment<3>(row) = ref.contactAcceleration.col(i) +
+                               settings_.swingKp * (ref.contactPosition.col(i) - contactPosition_.col(i)) +
+                               settings_.swingKd * (ref.contactVelocity.col(i) - contactVelocity_.col(i)) -
+                               contactBias_.segment<3>(3 * i);
+      row += 3;
+    }
+    for (int j : jointSpaceJoints_) {
+      rows.A(row, model::Model::vIndexOfJoint(j)) = 1.0;
+      rows.b[row] = ref.jointAcceleration[j] +
+                    settings_.jointKp * (ref.jointPosition[j] - q_[model::Model::qIndexOfJoint(j)]) +
+                    settings_.jointKd * (ref.jointVelocity[j] - state.v[model::Model::vIndexOfJoint(j)]);
+      ++row;
+    }
+  }
+  // 3: base pose and twist.
+  tasks_.beginLevel();
+  {
+    auto rows = tasks_.addEqualities(6);
+    rows.A.leftCols(nv_) = Jb_;
+    const Eigen::Matrix3d Rerr = ref.baseOrientation.normalized().toRotationMatrix() *
+                                 baseRotation_.transpose();
+    const Eigen::AngleAxisd aa(Rerr);
+    const Eigen::Vector3d orientationError = aa.angle() * aa.axis();
+    const Eigen::Vector3d positionError = ref.basePosition - basePosition_;
+    const auto& kp = settings_.baseKp;
+    const auto& kd = settings_.baseKd;
+    for (int a = 0; a < 3; ++a) {
+      rows.b[a] = ref.baseLinearAcceleration[a] + kp[a] * positionError[a] +
+                  kd[a] * (ref.baseLinearVelocity[a] - baseVelocity_[a]) - baseBias_[a];
+      rows.b[3 + a] = ref.baseAngularAcceleration[a] + kp[3 + a] * orientationError[a] +
+                      kd[3 + a] * (ref.baseAngularVelocity[a] - baseVelocity_[3 + a]) -
+                      baseBias_[3 + a];
+    }
+  }
+  // 4: contact forces.
+  tasks_.beginLevel();
+  {
+    auto rows = tasks_.addEqualities(nF);
+    rows.A.rightCols(nF).setIdentity();
+    rows.b = ref.contactForce;
+  }
+}
+
+void WholeBodyController::buildWeightedStack() {
+  weighted_.clear();
+  for (int k : {kLevelPhysics, kLevelLimits}) {
+    weighted_.beginLevel();
+    const int m = tasks_.equalityRows(k), p = tasks_.inequalityRows(k);
+    if (m > 0) {
+      auto rows = weighted_.addEqualities(m);
+      rows.A = tasks_.A().middleRows(tasks_.equalityBegin(k), m);
+      rows.b = tasks_.b().segment(tasks_.equalityBegin(k), m);
+    }
+    if (p > 0) {
+      auto rows = weighted_.addInequalities(p);
+      rows.D = tasks_.D().middleRows(tasks_.inequalityBegin(k), p);
+      rows.lower = tasks_.lower().segment(tasks_.inequalityBegin(k), p);
+      rows.upper = tasks_.upper().segment(tasks_.inequalityBegin(k), p);
+    }
+  }
+  weighted_.beginLevel();
+  const std::pair<int, double> parts[] = {{kLevelLimbs, settings_.limbWeight},
+                                          {kLevelBase, settings_.baseWeight},
+                                          {kLevelContactForces, settings_.contactForceWeight}};
+  for (const auto& [k, weight] : parts) {
+    const int m = tasks_.equalityRows(k);
+    if (m == 0 || weight <= 0.0) continue;
+    const double s = std::sqrt(weight);
+    auto rows = weighted_.addEqualities(m);
+    rows.A = s * tasks_.A().middleRows(tasks_.equalityBegin(k), m);
+    rows.b = s * tasks_.b().segment(tasks_.equalityBegin(k), m);
+  }
+}
+
+void WholeBodyController::fail(const WbcState& state, WbcOutput& out) const {
+  out.status = WbcStatus::kInvalidInput;
+  out.jointTorque.setZero();
+  out.jointVelocityTarget.setZero();
+  if (state.q.size() == model_.nq && state.q.tail(nj_).allFinite())
+    out.jointPositionTarget = state.q.tail(nj_);
+  else
+    out.jointPositionTarget.setZero();
+  out.acceleration.setZero();
+  out.contactForce.setZero();
+  out.taskError.fill(0.0);
+  out.slackNorm = 0.0;
+  out.iterations = 0;
+  out.qpSolves = 0;
+}
+
+WbcStatus WholeBodyController::update(const WbcState& state, const WbcReference& reference,
+                                      WbcOutput& out) {
+  if (out.jointTorque.size() != nj_ || out.jointPositionTarget.size() != nj_ ||
+      out.jointVelocityTarget.size() != nj_ || out.acceleration.size() != nv_ ||
+      out.contactForce.size() != 3 * nc_)
+    out = makeOutput();  // a wrongly sized output is a caller's bug: resize, once
+  if (!inputValid(state, reference)) {
+    fail(state, out);
+    return out.status;
+  }
+  computeKinematics(state);
+  buildTasks(state, reference);
+  HqpStatus status;
+  if (settings_.variant == WbcVariant::kHierarchical) {
+    status = hqp_.solve(tasks_);
+  } else {
+    buildWeightedStack();
+    status = hqp_.solve(weighted_);
+  }
+  xi_ = hqp_.solution();
+  if (!xi_.allFinite()) {
+    fail(state, out);
+    return out.status;
+  }
+  out.status = status == HqpStatus::kOk        ? WbcStatus::kOk
+               : status == HqpStatus::kRelaxed ? WbcStatus::kRelaxed
+                                               : WbcStatus::kDegraded;
+  const auto vdot = xi_.head(nv_);
+  const auto F = xi_.tail(3 * nc_);
+  out.acceleration = vdot;
+  out.contactForce = F;
+  out.jointTorque.noalias() = data_.M.bottomRows(nj_) * vdot;
+  out.jointTorque += data_.nle.tail(nj_);
+  out.jointTorque.noalias() -= Jc_.rightCols(nj_).transpose() * F;
+  for (int j = 0; j < nj_; ++j) {
+    const double limit = torqueLimit_[j];
+    const double clamped = std::clamp(out.jointTorque[j], -limit, limit);
+    if (std::abs(clamped - out.jointTorque[j]) > 1e-6 * limit && out.status == WbcStatus::kOk)
+      out.status = WbcStatus::kRelaxed;
+    out.jointTorque[j] = clamped;
+  }
+  const double T = settings_.period;
+  const auto qj = state.q.tail(nj_);
+  const auto vj = state.v.tail(nj_);
+  out.jointVelocityTarget = vj + (T / 2.0) * vdot.tail(nj_);
+  out.jointPositionTarget = qj + (T / 2.0) * vj + (T * T / 6.0) * vdot.tail(nj_);
+
+  out.taskError[kPhysics] = tasks_.residual(kLevelPhysics, xi_);
+  out.taskError[kLimbs] = tasks_.residual(kLevelLimbs, xi_);
+  out.taskError[kBase] = tasks_.residual(kLevelBase, xi_);
+  out.taskError[kContactForces] = tasks_.residual(kLevelContactForces, xi_);
+  out.slackNorm = hqp_.slack().norm();
+  out.iterations = hqp_.totalIterations();
+  out.qpSolves = 0;
+  const int levels = settings_.variant == WbcVariant::kHierarchical ? tasks_.levels() : weighted_.levels();
+  for (int k = 0; k < levels; ++k) out.qpSolves += hqp_.level(k).qpSolved ? 1 : 0;
+  return out.status;
+}
+
+}  // namespace ballast::wbc

@@ -1,0 +1,114 @@
+// The whole-body controller of the paper (Sec. II-B, Table I): from the robot state and the
+// planner's references to joint torques, at 1 kHz.
+//
+// Decision ξ = [v̇ (nv); F_c (3·nc)], v̇ in the model's velocity coordinates (base part in the base
+// frame), F_c the forces on the robot at the contact points, world frame.
+//
+// Task stack (TaskStack levels; the paper's priority in brackets):
+//   0 [1]  physics, equalities: floating-base rows of the dynamics [M_b  −J_bᵀ]ξ = −n_b; stance
+//          contact points J_c v̇ = −J̇_c v; swing contact points f_c = 0; a body standing on two
+//          contact points (a foot on toe and heel) does not roll about the line through them,
+//          dᵀ(J_ω v̇ + J̇_ω v) = 0 — the four-point model leaves that roll free, the real foot has width
+//   1 [1]  limits, inequalities: torque limits through the actuated rows
+//          −τ_max − n_j ≤ [M_j  −J_jᵀ]ξ ≤ τ_max − n_j; friction pyramid C_fr f_c ≤ 0 on stance points
+//   2 [2]  limb motion: swing contact points J_c v̇ = p̈* + kp(p* − p) + kd(ṗ* − ṗ) − J̇_c v (world);
+//          joint-space joints (arms) q̈_j = q̈*_j + kp(q*_j − q_j) + kd(q̇*_j − q̇_j)
+//   3 [3]  base motion: J_b v̇ = a*_b + Kp (q*_b ⊟ q_b) + Kd (v*_b − v_b) − J̇_b v, world-aligned
+//          [linear; angular], the orientation error as the rotation vector log(R* Rᵀ)
+//   4 [4]  contact forces: F_c = F_c*
+// Priority 1 is split in two levels so the physics equalities are never traded for slack when
+// the limits cannot be met (with feasible limits the answer is the same as one level).
+// The weighted variant (cNH) keeps levels 0 and 1 and solves levels 2–4 as one least-squares
+// level weighted by WbcSettings::limbWeight, baseWeight, contactForceWeight.
+//
+// Torques τ = M_j v̇ + n_j − J_jᵀF_c (actuated rows of the dynamics), clamped to the limits. Joint
+// targets for the motors' PD: the mean of the predicted motion over the coming period T,
+// q_j + (T/2) q̇_j + (T²/6) v̇_j and q̇_j + (T/2) v̇_j. The motor's PD runs continuously while the
+// command is held; around the mean of the prediction it adds no bias when the prediction comes
+// true (end-of-period targets push along the motion by kp·q̇·T/2 on average: in the balance test
+// that doubled the arm tracking error), and it corrects what the prediction misses.
+//
+// The contact force columns are scaled by m·g/nc inside the solver (HierarchicalQp's variable
+// scale) so that accelerations and forces have comparable magnitudes.
+#pragma once
+
+#include <utility>
+#include <vector>
+
+#include "model/data.hpp"
+#include "model/model.hpp"
+#include "wbc/hierarchical_qp.hpp"
+#include "wbc/interface.hpp"
+#include "wbc/settings.hpp"
+#include "wbc/task_stack.hpp"
+
+namespace ballast::wbc {
+
+/// TaskStack level of each part of the task stack (see the header comment).
+enum WbcStackLevel : int {
+  kLevelPhysics = 0,
+  kLevelLimits = 1,
+  kLevelLimbs = 2,
+  kLevelBase = 3,
+  kLevelContactForces = 4,
+  kStackLevels = 5,
+};
+
+class WholeBodyController {
+ public:
+  /// Throws std::invalid_argument with validateSettings()'s message. Keeps a reference to model.
+  WholeBodyController(const model::Model& model, const WbcSettings& settings);
+
+  WbcState makeState() const;          ///< neutral configuration, zero velocity
+  WbcReference makeReference() const;  ///< all contact points in stance, everything else zero
+  WbcOutput makeOutput() const;
+
+  /// One control tick; allocates nothing. Returns output.status.
+  WbcStatus update(const WbcState& state, const WbcReference& reference, WbcOutput& output);
+
+  const WbcSettings& settings() const { return settings_; }
+  int contactCount() const { return nc_; }
+  int decisionSize() const { return nx_; }
+  /// The last tick's hierarchical task stack (levels as WbcStackLevel, unweighted, in ξ units),
+  /// the same for both variants, and the decision ξ found.
+  const TaskStack& tasks() const { return tasks_; }
+  const Eigen::VectorXd& decision() const { return xi_; }
+  const HierarchicalQp& solver() const { return hqp_; }
+  const model::Data<double>& data() const { return data_; }
+  /// |τ| limits in use (nj).
+  const Eigen::VectorXd& torqueLimit() const { return torqueLimit_; }
+
+ private:
+  bool inputValid(const WbcState& state, const WbcReference& reference) const;
+  void computeKinematics(const WbcState& state);
+  void buildTasks(const WbcState& state, const WbcReference& reference);
+  void buildWeightedStack();
+  void fail(const WbcState& state, WbcOutput& output) const;
+
+  const model::Model& model_;
+  WbcSettings settings_;
+  int nv_, nj_, nc_, nx_;
+  int baseFrame_;
+  std::vector<int> contactFrames_;
+  std::vector<std::pair<int, int>> footPairs_;  // contact points on one body (a foot's toe, heel)
+  std::vector<int> jointSpaceJoints_;
+  Eigen::VectorXd torqueLimit_;
+
+  model::Data<double> data_;
+  Eigen::VectorXd q_;            // state.q with a normalised quaternion
+  Eigen::MatrixXd Jc_;           // 3·nc × nv contact Jacobians, world-aligned
+  Eigen::VectorXd contactBias_;  // 3·nc, J̇_c v
+  Eigen::Matrix3Xd contactPosition_, contactVelocity_;
+  Eigen::Matrix<double, 6, Eigen::Dynamic> Jb_;  // base frame Jacobian, world-aligned
+  Eigen::Matrix<double, 6, Eigen::Dynamic> Jframe_;  // scratch: a contact frame's 6-row Jacobian
+  Eigen::Matrix<double, 6, 1> baseBias_, baseVelocity_;
+  Eigen::Vector3d basePosition_;
+  Eigen::Matrix3d baseRotation_;
+
+  TaskStack tasks_;     // hierarchical layout, always built
+  TaskStack weighted_;  // the weighted variant's stack
+  HierarchicalQp hqp_;
+  Eigen::VectorXd xi_;
+};
+
+}  // namespace ballast::wbc

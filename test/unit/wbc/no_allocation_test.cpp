@@ -1,0 +1,90 @@
+// The 1 kHz path allocates nothing: the QP solver, the hierarchical solver and a whole controller
+// tick, run on prepared objects, are watched by a counting malloc (as in test/unit/model).
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+
+#include "test/unit/wbc/qp_test_support.hpp"
+#include "test/unit/wbc/wbc_test_support.hpp"
+
+namespace {
+std::atomic<bool> counting{false};
+std::atomic<long> allocations{0};
+}  // namespace
+
+// glibc lets a program interpose malloc; operator new and Eigen both allocate through it.
+extern "C" void* __libc_malloc(std::size_t);
+extern "C" void* malloc(std::size_t n) {
+  if (counting.load(std::memory_order_relaxed)) allocations.fetch_add(1);
+  return __libc_malloc(n);
+}
+
+namespace ballast::test {
+namespace {
+
+using namespace wbc;
+
+template <typename F>
+long allocationsIn(F&& f) {
+  allocations = 0;
+  counting = true;
+  f();
+  counting = false;
+  return allocations.load();
+}
+
+TEST(WbcNoAllocation, CounterSeesAnAllocation) {
+  EXPECT_GT(allocationsIn([] { Eigen::VectorXd x(100); x.setZero(); }), 0);
+}
+
+TEST(WbcNoAllocation, QpSolver) {
+  QpSolver qp(QpCapacity{42, 30, 40});
+  std::mt19937 rng(1);
+  randomFeasibleQp(qp, 42, 30, 40, rng);
+  EXPECT_EQ(allocationsIn([&] { qp.solve(); }), 0);  // cold
+  EXPECT_EQ(allocationsIn([&] { qp.solve(); }), 0);  // warm
+  randomFeasibleQp(qp, 17, 5, 33, rng);
+  EXPECT_EQ(allocationsIn([&] { qp.resize(17, 5, 33); }), 0);
+  randomFeasibleQp(qp, 17, 5, 33, rng);
+  EXPECT_EQ(allocationsIn([&] { qp.solve(); }), 0);
+  ASSERT_EQ(qp.result().status, QpStatus::kOptimal);
+}
+
+TEST(WbcNoAllocation, ControllerTicks) {
+  const model::Model& m = humanoid();
+  for (WbcVariant variant : {WbcVariant::kHierarchical, WbcVariant::kWeighted}) {
+    WbcSettings settings;
+    settings.variant = variant;
+    WholeBodyController wbc(m, settings);
+    settings.torqueLimit.assign(m.nj(), 5.0);  // slack and clamping paths
+    WholeBodyController starved(m, settings);
+    WbcReference ref = wbc.makeReference();
+    WbcOutput out = wbc.makeOutput();
+    std::vector<int> frames;
+    for (const auto& f : settings.contactFrames) frames.push_back(m.frameId(f));
+    std::mt19937 rng(2);
+    const std::vector<std::vector<bool>> schedules{
+        {true, true, true, true}, {true, true, false, false}, {false, false, false, false}};
+    int qpSolves = 0;
+    for (const auto& schedule : schedules) {
+      ref.stance = schedule;
+      const ConsistentMotion c = consistentMotion(m, frames, schedule, rng, 0.5, 3.0);
+      consistentReferences(m, wbc, c, ref);
+      ref.baseLinearAcceleration.y() += 8.0;  // beyond friction: QPs run
+      const WbcState state{c.q, c.v};
+      wbc.update(state, ref, out);  // first tick (warm starts begin)
+      EXPECT_EQ(allocationsIn([&] { wbc.update(state, ref, out); }), 0) << toString(variant);
+      qpSolves += out.qpSolves;
+      EXPECT_EQ(allocationsIn([&] { starved.update(state, ref, out); }), 0) << toString(variant);
+      WbcState bad = state;
+      bad.v[3] = std::nan("");
+      EXPECT_EQ(allocationsIn([&] { wbc.update(bad, ref, out); }), 0);
+      EXPECT_EQ(out.status, WbcStatus::kInvalidInput);
+    }
+    EXPECT_GT(qpSolves, 0);
+  }
+}
+
+}  // namespace
+}  // namespace ballast::test
