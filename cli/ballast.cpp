@@ -1,0 +1,459 @@
+// ballast: the operator console for ballastd (ballast(1)). It speaks only the protocol
+// (daemon/server/protocol.hpp): each verb is one request, its reply printed for people, or as
+// JSON with --json. Exit status: 0 done, 1 refused (the reply says why and what to do next),
+// 2 usage, 3 no daemon to talk to.
+#include <signal.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "cli/client.hpp"
+#include "cli/plot.hpp"
+#include "cli/status_view.hpp"
+#include "cli/units.hpp"
+#include "server/protocol.hpp"
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+using namespace ballast;
+
+namespace {
+
+enum Exit { kOk = 0, kRefused = 1, kUsage = 2, kNoDaemon = 3 };
+
+std::atomic<bool> interrupted{false};
+
+/// JSON for stdout; invalid UTF-8 from the daemon is replaced, never thrown on.
+std::string text(const json& j) {
+  return j.dump(-1, ' ', false, json::error_handler_t::replace);
+}
+
+struct Options {
+  std::string socket, lease_file;
+  bool json = false;
+  double timeout = 10.0;
+};
+
+int usage(const std::string& message) {
+  std::fprintf(stderr, "ballast: %s (see `ballast --help` or ballast(1))\n", message.c_str());
+  return kUsage;
+}
+
+/// A session with the daemon: the connection, the lease token, and printing.
+class Session {
+ public:
+  explicit Session(const Options& o)
+      : opt_(o),
+        socket_(cli::socketPath(o.socket)),
+        lease_path_(cli::leaseFile(o.lease_file, socket_)) {}
+
+  int connect() {
+    std::string error;
+    if (conn_.open(socket_, error)) return kOk;
+    return noDaemon(error);
+  }
+
+  int noDaemon(const std::string& error) {
+    if (opt_.json)
+      std::cout << text(json{{"ok", false}, {"error", {{"code", "no_daemon"}, {"message", error}}}})
+                << "\n";
+    else
+      std::fprintf(stderr, "ballast: %s\n", error.c_str());
+    return kNoDaemon;
+  }
+
+  /// One request; motion commands carry the lease token and take the lease when it is free.
+  /// Returns the exit status; reply holds the daemon's answer when it came.
+  int call(json request, json& reply) {
+    const protocol::Command* spec = protocol::findCommand(request["cmd"].get<std::string>());
+    const bool motion = spec && spec->needs_lease;
+    if (motion || request["cmd"] == "lease_acquire" || request["cmd"] == "lease_return") {
+      if (const std::string token = readToken(); !token.empty()) request["lease"] = token;
+    }
+    std::string error;
+    if (!conn_.request(request, reply, error, opt_.timeout)) return noDaemon(error);
+    if (motion && !reply.value("ok", false) && errorCode(reply) == protocol::kNoLease) {
+      json lease;
+      if (!conn_.request({{"cmd", "lease_acquire"}}, lease, error, opt_.timeout))
+        return noDaemon(error);
+      if (!lease.value("ok", false)) {
+        reply = lease;
+        return kRefused;
+      }
+      saveToken(lease["lease"].get<std::string>());
+      request["lease"] = lease["lease"];
+      if (!conn_.request(request, reply, error, opt_.timeout)) return noDaemon(error);
+    }
+    return reply.value("ok", false) ? kOk : kRefused;
+  }
+
+  /// Runs a request and prints the outcome: JSON, or `human(reply)` on success and the
+  /// daemon's message on refusal.
+  template <typename Human>
+  int run(json request, Human human, json* out = nullptr) {
+    if (const int c = connect(); c != kOk) return c;
+    json reply;
+    const int code = call(std::move(request), reply);
+    if (out) *out = reply;
+    if (code == kNoDaemon) return code;
+    if (opt_.json) {
+      std::cout << text(reply) << "\n";
+    } else if (code == kOk) {
+      human(reply);
+    } else {
+      std::fprintf(stderr, "ballast: %s: %s\n", errorCode(reply).c_str(),
+                   reply["error"].value("message", "").c_str());
+    }
+    return code;
+  }
+
+  static std::string errorCode(const json& reply) {
+    return reply.contains("error") ? reply["error"].value("code", "") : "";
+  }
+
+  std::string readToken() const {
+    std::ifstream in(lease_path_);
+    std::string token;
+    std::getline(in, token);
+    return token;
+  }
+  void saveToken(const std::string& token) const {
+    std::error_code ec;
+    fs::create_directories(fs::path(lease_path_).parent_path(), ec);
+    ::chmod(fs::path(lease_path_).parent_path().c_str(), 0700);
+    const mode_t old = ::umask(0077);
+    std::ofstream(lease_path_) << token << "\n";
+    ::umask(old);
+  }
+  void forgetToken() const { std::remove(lease_path_.c_str()); }
+  const std::string& leasePath() const { return lease_path_; }
+  cli::Connection& connection() { return conn_; }
+
+ private:
+  const Options& opt_;
+  std::string socket_, lease_path_;
+  cli::Connection conn_;
+};
+
+void printMode(const std::string& verb, const json& r) {
+  std::printf("%s: ok, mode %s%s%s\n", verb.c_str(), r.value("mode", "?").c_str(),
+              r.contains("message") ? "; " : "", r.value("message", "").c_str());
+}
+
+int watch(Session& s, const Options& o, double rate, bool joints, int count) {
+  if (const int c = s.connect(); c != kOk) return c;
+  json reply;
+  const int code = s.call({{"cmd", "watch"}, {"rate", rate}, {"joints", joints}}, reply);
+  if (code != kOk) {
+    if (code == kRefused)
+      std::fprintf(stderr, "ballast: %s\n", reply["error"].value("message", "").c_str());
+    return code;
+  }
+  signal(SIGINT, [](int) { interrupted = true; });
+  const bool tty = ::isatty(STDOUT_FILENO) && !o.json;
+  for (int n = 0; !interrupted && (count <= 0 || n < count);) {
+    json line;
+    std::string error;
+    if (!s.connection().readLine(line, error, 200)) {
+      if (!error.empty()) return s.noDaemon(error);
+      continue;
+    }
+    if (!line.contains("event")) continue;
+    ++n;
+    if (o.json) {
+      std::cout << text(line["status"]) << std::endl;
+    } else {
+      if (tty) std::printf("\033[H\033[2J");
+      std::printf("%s", cli::renderStatus(line["status"]).c_str());
+      if (tty) std::printf("\n(ballast status --watch: Ctrl-C to quit)\n");
+      std::fflush(stdout);
+    }
+  }
+  return kOk;
+}
+
+int plot(const std::string& file, const std::string& out, const std::string& title,
+         const Options& o) {
+  cli::TelemetryTable table;
+  std::string error;
+  if (!cli::readTelemetry(file, table, error)) {
+    std::fprintf(stderr, "ballast: %s\n", error.c_str());
+    return kRefused;
+  }
+  const std::string script = cli::plotScript(
+      table, file, out, title.empty() ? "ballast: " + fs::path(file).filename().string() : title);
+  if (!cli::runGnuplot(script, error)) {
+    std::fprintf(stderr, "ballast: %s\n", error.c_str());
+    return kRefused;
+  }
+  if (o.json)
+    std::cout << json{{"ok", true}, {"output", out}, {"frames", table.rows}}.dump() << "\n";
+  else
+    std::printf("plot: %s (%zu frames from %s)\n", out.c_str(), table.rows, file.c_str());
+  return kOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "ballast: operator console for ballastd, the whole-body control daemon (ballast(1))"};
+  app.require_subcommand(1);
+  app.fallthrough();
+  Options o;
+  app.add_option(
+      "--socket", o.socket,
+      "daemon socket (default: $BALLAST_SOCKET, else $XDG_RUNTIME_DIR/ballast/ballastd.sock)");
+  app.add_flag("--json", o.json, "print the daemon's replies as JSON (one object per line)");
+  app.add_option("--lease-file", o.lease_file,
+                 "where the command lease token is kept (default: $BALLAST_LEASE_FILE, else per "
+                 "socket under $XDG_RUNTIME_DIR/ballast)");
+  app.add_option("--timeout", o.timeout, "seconds to wait for an answer (default 10)")
+      ->check(CLI::PositiveNumber);
+  app.set_version_flag("--version", BALLAST_VERSION);
+
+  auto* status = app.add_subcommand("status", "the robot's state; --watch for a live view");
+  bool watchFlag = false, joints = false;
+  double rate = 10.0;
+  int count = 0;
+  std::string get;
+  status->add_flag("--watch", watchFlag, "keep showing the status (Ctrl-C to quit)");
+  status->add_option("--rate", rate, "--watch: updates per second (default 10)")
+      ->check(CLI::Range(0.1, 1000.0));
+  status->add_option("--count", count, "--watch: stop after this many updates");
+  status->add_option("--get", get,
+                     "print one field, e.g. mode, base.position, timing.tick_overruns");
+  status->add_flag("--joints", joints, "include joint positions and torques");
+
+  app.add_subcommand("stand", "stand up (from passive), or stop walking and stand");
+  auto* walk = app.add_subcommand("walk", "walk at a velocity (needs the planner)");
+  std::string vx = "0", vy = "0", yawRate = "0", forDuration;
+  walk->add_option("--vx", vx, "forward velocity, m/s");
+  walk->add_option("--vy", vy, "sideways velocity (left), m/s");
+  walk->add_option("--yaw-rate", yawRate, "turning rate, rad/s (or deg with a deg suffix)");
+  walk->add_option(
+      "--for", forDuration,
+      "how long, controller time (3, 2.5s, 500ms); default: the profile's safety.command_ttl");
+  auto* pose = app.add_subcommand("pose", "standing base height and orientation (unset: nominal)");
+  std::string height, roll, pitch, yaw;
+  pose->add_option("--height", height, "base height above the feet, m");
+  pose->add_option("--roll", roll, "rad, or deg with a deg suffix (5deg)");
+  pose->add_option("--pitch", pitch, "rad, or deg with a deg suffix");
+  pose->add_option("--yaw", yaw, "rad, or deg with a deg suffix");
+  app.add_subcommand("stop", "zero velocity, keep standing");
+  app.add_subcommand("estop", "damp every joint and latch until `ballast reset` (no lease needed)");
+  app.add_subcommand("reset", "clear faults and the estop latch (damp -> passive)");
+  app.add_subcommand("passive", "zero torque: the robot falls unless held");
+
+  auto* profile = app.add_subcommand("profile", "list, show or switch profiles");
+  profile->require_subcommand(1);
+  profile->add_subcommand("list", "profiles the daemon can switch to");
+  std::string showName, useName;
+  profile->add_subcommand("show", "a profile, merged, with where each value comes from")
+      ->add_option("name", showName, "profile name or file (default: the running one)");
+  profile->add_subcommand("use", "switch to a profile (validated first; gains blend)")
+      ->add_option("name", useName, "profile name or file")
+      ->required();
+
+  auto* map = app.add_subcommand("map", "the terrain map");
+  map->require_subcommand(1);
+  std::string mapFile;
+  map->add_subcommand("load", "load an OctoMap file (.bt, .ot)")
+      ->add_option("file", mapFile)
+      ->required();
+  map->add_subcommand("info", "the map in use");
+
+  auto* push = app.add_subcommand("push", "push a body (simulation only)");
+  std::string force, duration, body;
+  push->add_option("--force", force, "FX,FY,FZ in N, world frame, e.g. 40,0,0")->required();
+  push->add_option("--duration", duration, "how long, controller time (1, 0.5s, 200ms)")
+      ->required();
+  push->add_option("--body", body, "URDF link (default: the base)");
+
+  auto* record = app.add_subcommand("record", "record telemetry at the control rate");
+  record->require_subcommand(1);
+  std::string recordFile;
+  record->add_subcommand("start", "start recording to FILE")
+      ->add_option("file", recordFile)
+      ->required();
+  record->add_subcommand("stop", "stop recording");
+
+  auto* plotCmd = app.add_subcommand("plot", "plot a recording like the paper's Fig. 3 (PNG)");
+  std::string plotFile, plotOut, plotTitle;
+  plotCmd->add_option("file", plotFile, "telemetry recording")->required();
+  plotCmd->add_option("-o,--output", plotOut, "PNG to write")->required();
+  plotCmd->add_option("--title", plotTitle, "title above the panels");
+
+  auto* lease = app.add_subcommand("lease", "the command lease (motion commands need it)");
+  lease->require_subcommand(1);
+  lease->add_subcommand("acquire", "take the free lease (or renew yours)");
+  lease->add_subcommand("take", "take the lease from whoever holds it");
+  lease->add_subcommand("return", "give the lease back");
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? kOk : kUsage;
+  }
+
+  Session s(o);
+  std::string error;
+  const CLI::App* verb = app.get_subcommands().front();
+  const std::string name = verb->get_name();
+  auto sub = [&](const CLI::App* a) { return a->get_subcommands().front()->get_name(); };
+
+  if (name == "status") {
+    if (watchFlag) return watch(s, o, rate, joints, count);
+    if (const int c = s.connect(); c != kOk) return c;
+    json reply;
+    const int code = s.call({{"cmd", "status"}, {"joints", joints}}, reply);
+    if (code == kNoDaemon) return code;
+    if (code != kOk) {
+      std::fprintf(stderr, "ballast: %s\n", reply["error"].value("message", "").c_str());
+      return code;
+    }
+    const json& st = reply["status"];
+    if (!get.empty()) {
+      std::string value;
+      if (!cli::lookup(st, get, value)) {
+        std::fprintf(stderr, "ballast: status has no field '%s' (see `ballast status --json`)\n",
+                     get.c_str());
+        return kRefused;
+      }
+      std::printf("%s\n", value.c_str());
+    } else if (o.json) {
+      std::cout << text(st) << "\n";
+    } else {
+      std::printf("%s", cli::renderStatus(st).c_str());
+    }
+    return kOk;
+  }
+  if (name == "stand" || name == "stop" || name == "reset" || name == "passive")
+    return s.run({{"cmd", name}}, [&](const json& r) { printMode(name, r); });
+  if (name == "estop")
+    return s.run({{"cmd", "estop"}}, [](const json&) {
+      std::printf("estop: every joint damped and latched; `ballast reset` clears it\n");
+    });
+  if (name == "walk") {
+    json req = {{"cmd", "walk"}};
+    double v;
+    if (!cli::parseNumber(vx, v, error)) return usage("--vx: " + error);
+    req["vx"] = v;
+    if (!cli::parseNumber(vy, v, error)) return usage("--vy: " + error);
+    req["vy"] = v;
+    if (!cli::parseAngle(yawRate, v, error)) return usage("--yaw-rate: " + error);
+    req["yaw_rate"] = v;
+    if (!forDuration.empty()) {
+      if (!cli::parseDuration(forDuration, v, error)) return usage("--for: " + error);
+      req["ttl"] = v;
+    }
+    return s.run(req, [&](const json& r) { printMode("walk", r); });
+  }
+  if (name == "pose") {
+    json req = {{"cmd", "pose"}};
+    double v;
+    if (!height.empty()) {
+      if (!cli::parseNumber(height, v, error)) return usage("--height: " + error);
+      req["height"] = v;
+    }
+    const std::pair<const char*, std::string*> angles[] = {
+        {"roll", &roll}, {"pitch", &pitch}, {"yaw", &yaw}};
+    for (const auto& [key, text] : angles) {
+      if (text->empty()) continue;
+      if (!cli::parseAngle(*text, v, error)) return usage(std::string("--") + key + ": " + error);
+      req[key] = v;
+    }
+    return s.run(req, [&](const json& r) { printMode("pose", r); });
+  }
+  if (name == "push") {
+    std::array<double, 3> f{};
+    double d;
+    if (!cli::parseVector3(force, f, error)) return usage("--force: " + error);
+    if (!cli::parseDuration(duration, d, error)) return usage("--duration: " + error);
+    json req = {{"cmd", "push"}, {"force", f}, {"duration", d}};
+    if (!body.empty()) req["body"] = body;
+    return s.run(req, [&](const json&) {
+      std::printf("push: %g,%g,%g N for %g s on %s\n", f[0], f[1], f[2], d,
+                  body.empty() ? "the base" : body.c_str());
+    });
+  }
+  if (name == "profile") {
+    const std::string what = sub(verb);
+    if (what == "list")
+      return s.run({{"cmd", "profile_list"}}, [](const json& r) {
+        for (const auto& p : r["profiles"])
+          std::printf("%s %-22s %s\n", p.value("running", false) ? "*" : " ",
+                      p["name"].get<std::string>().c_str(),
+                      p.value("valid", false) ? p.value("description", "").c_str()
+                                              : ("INVALID: " + p.value("problem", "")).c_str());
+      });
+    auto nameOrPath = [](const std::string& n) {
+      return n.find('/') != std::string::npos || fs::exists(n) ? fs::absolute(n).string() : n;
+    };
+    if (what == "show") {
+      json req = {{"cmd", "profile_show"}};
+      if (!showName.empty()) req["name"] = nameOrPath(showName);
+      return s.run(req,
+                   [](const json& r) { std::printf("%s", r["text"].get<std::string>().c_str()); });
+    }
+    return s.run({{"cmd", "profile_use"}, {"name", nameOrPath(useName)}}, [](const json& r) {
+      std::printf("profile %s in force (%s)\n", r.value("profile", "?").c_str(),
+                  r.value("message", "").c_str());
+    });
+  }
+  if (name == "map") {
+    auto show = [](const json& r) {
+      const json& m = r["map"];
+      if (m.is_null()) {
+        std::printf("no terrain map: a flat floor\n");
+        return;
+      }
+      std::printf("map %s: resolution %g m, %s leaves, from %s to %s\n",
+                  m["path"].get<std::string>().c_str(), m["resolution"].get<double>(),
+                  m["leaves"].dump().c_str(), m["min"].dump().c_str(), m["max"].dump().c_str());
+    };
+    if (sub(verb) == "info") return s.run({{"cmd", "map_info"}}, show);
+    return s.run({{"cmd", "map_load"}, {"path", fs::absolute(mapFile).string()}}, show);
+  }
+  if (name == "record") {
+    if (sub(verb) == "stop")
+      return s.run({{"cmd", "record_stop"}}, [](const json& r) {
+        std::printf("recorded %s frames in %s\n", r["frames"].dump().c_str(),
+                    r["path"].get<std::string>().c_str());
+      });
+    return s.run({{"cmd", "record_start"}, {"path", fs::absolute(recordFile).string()}},
+                 [](const json& r) {
+                   std::printf("recording to %s; `ballast record stop` ends it\n",
+                               r["path"].get<std::string>().c_str());
+                 });
+  }
+  if (name == "plot") return plot(plotFile, plotOut, plotTitle, o);
+  if (name == "lease") {
+    const std::string what = sub(verb);
+    if (what == "return") {
+      const int code =
+          s.run({{"cmd", "lease_return"}}, [](const json&) { std::printf("lease returned\n"); });
+      if (code == kOk) s.forgetToken();
+      return code;
+    }
+    json reply;
+    const int code = s.run(
+        {{"cmd", "lease_" + what}},
+        [&](const json& r) {
+          std::printf("lease %s (token kept in %s)\n",
+                      r.value("renewed", false) ? "renewed" : "held", s.leasePath().c_str());
+        },
+        &reply);
+    if (code == kOk) s.saveToken(reply["lease"].get<std::string>());
+    return code;
+  }
+  return usage("unknown verb " + name);
+}

@@ -1,0 +1,471 @@
+#include "control/control_loop.hpp"
+
+#include <sys/eventfd.h>
+#include <time.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <stdexcept>
+#include <thread>
+
+#include "model/base_conventions.hpp"
+
+namespace ballast::control {
+
+namespace {
+std::uint64_t nowNs() {
+  timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::uint64_t>(ts.tv_sec) * 1000000000ull + ts.tv_nsec;
+}
+
+bool finite3(const double* x) {
+  return std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]);
+}
+
+const char* statusName(backend::Status s) {
+  switch (s) {
+    case backend::Status::kOk:
+      return "ok";
+    case backend::Status::kStale:
+      return "stale data";
+    case backend::Status::kOverrun:
+      return "overrun";
+    case backend::Status::kFault:
+      return "fault";
+  }
+  return "unknown status";
+}
+}  // namespace
+
+ControlLoop::ControlLoop(const model::Model& model, backend::Backend& backend,
+                         const ControlSettings& settings, const LoopOptions& options)
+    : model_(model),
+      backend_(backend),
+      settings_(&settings),
+      options_(options),
+      nj_(model.nj()),
+      estimator_(model, settings),
+      stand_(model, settings),
+      commands_(options.command_capacity),
+      replies_(options.command_capacity),
+      events_(256),
+      telemetry_(options.telemetry_capacity) {
+  if (nj_ > kMaxJoints)
+    throw std::runtime_error(model.sourceFile + ": " + std::to_string(nj_) +
+                             " joints; ballastd handles at most " + std::to_string(kMaxJoints));
+  const backend::Capabilities& caps = backend.capabilities();
+  std::string missing;
+  for (int j = 0; j < nj_; ++j) {
+    const std::string& name = model.jointName[j + 1];
+    joint_names_.push_back(name);
+    backend_index_[j] = -1;
+    for (int b = 0; b < caps.num_joints; ++b)
+      if (name == caps.joint_names[b]) backend_index_[j] = b;
+    if (backend_index_[j] < 0) missing += (missing.empty() ? "" : ", ") + name;
+  }
+  if (!missing.empty())
+    throw std::runtime_error(std::string("backend '") + caps.name + "' has no joint named " +
+                             missing + " (the model " + model.sourceFile +
+                             " has them): use the same URDF for both");
+  period_ = 1.0 / settings.rate;
+  modes_.configure(settings, stand_.nominalHeight());
+  for (int j = 0; j < nj_; ++j) {
+    kp_[j] = settings.kp[j];
+    kd_[j] = settings.kd[j];
+  }
+  commands_out_.num_joints = caps.num_joints;
+  wake_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+}
+
+ControlLoop::~ControlLoop() {
+  planner_.stop();
+  if (wake_fd_ >= 0) close(wake_fd_);
+}
+
+void ControlLoop::attachPlanner(Planner* planner) {
+  planner_.start(planner, settings_->planner_rate, options_.lockstep);
+}
+
+bool ControlLoop::submit(const OperatorCommand& command) {
+  return commands_.tryPush(command);
+}
+
+void ControlLoop::notifyIo() {
+  const std::uint64_t one = 1;
+  [[maybe_unused]] const ssize_t n = write(wake_fd_, &one, sizeof(one));
+}
+
+void ControlLoop::event(bool warning, const char* message) {
+  LoopEvent e;
+  e.t = t_;
+  e.warning = warning;
+  copyText(e.message, message);
+  events_.tryPush(e);  // a full ring loses a log line, never a tick
+  notifyIo();
+}
+
+void ControlLoop::raise(FaultKind kind, const char* message) {
+  if (modes_.fault(kind, t_, message)) {
+    char line[kMessageLength];
+    std::snprintf(line, sizeof(line), "fault %s: %s", faultName(kind), message);
+    event(true, line);
+  }
+}
+
+void ControlLoop::backendStatus(backend::Status status, const char* call) {
+  if (status == backend::Status::kOk) return;
+  const backend::Error& e = backend_.lastError();
+  std::snprintf(message_, sizeof(message_), "backend %s(): %s%s%.150s", call, statusName(status),
+                e.empty() ? "" : ": ", e.message);
+  switch (status) {
+    case backend::Status::kStale:
+      raise(FaultKind::kBackendStale, message_);
+      break;
+    case backend::Status::kOverrun:
+      ++overruns_;
+      raise(FaultKind::kBackendOverrun, message_);
+      break;
+    default:
+      raise(FaultKind::kBackendFault, message_);
+      break;
+  }
+}
+
+void ControlLoop::run(const std::atomic<bool>& stop) {
+  while (!stop.load(std::memory_order_relaxed)) tick();
+  shutting_down_ = true;
+  modes_.damp();
+  for (int i = 0; i < options_.shutdown_ticks; ++i) tick();
+  backend_.stop();
+  publish();
+}
+
+void ControlLoop::tick() {
+  const std::uint64_t start = nowNs();
+  readSensors();
+  if (!started_ && sensors_ok_) {
+    modes_.start(settings_->initial_mode, t_);
+    if (settings_->initial_mode == Mode::kStandUp) stand_.beginStandUp(input_.state);
+    last_mode_ = modes_.mode();
+    started_ = true;
+  }
+  handleCommands();
+  modes_.update(t_);
+  detectFall();
+
+  if (planner_.available() && planner_.due(t_)) {
+    planner_input_.t = t_;
+    planner_input_.mode = modes_.mode();
+    planner_input_.state = input_.state;
+    planner_input_.command = modes_.command();
+    if (!planner_.post(planner_input_))
+      raise(FaultKind::kPlanner, "the planner did not answer in time");
+  }
+  if (const PlannerOutput* p = planner_.available() ? planner_.latest() : nullptr) {
+    if (p->valid)
+      plan_ = p;
+    else
+      raise(FaultKind::kPlanner, "the planner returned no valid plan");
+  }
+
+  const Mode mode = shutting_down_ ? Mode::kDamp : modes_.mode();
+  if (mode != last_mode_) {
+    if (mode == Mode::kStandUp) stand_.beginStandUp(input_.state);
+    char line[kMessageLength];
+    std::snprintf(line, sizeof(line), "mode %s -> %s", modeName(last_mode_), modeName(mode));
+    event(false, line);
+    last_mode_ = mode;
+  }
+  computeCommands();
+  guardCommands();
+  writeCommands();
+
+  wbc_ms_ = secondsSince(start) * 1e3;
+  wbc_ms_max_ = std::max(wbc_ms_max_, wbc_ms_);
+  if (!options_.lockstep && wbc_ms_ > period_ * 1e3) ++overruns_;
+  updateTruth();
+  record();
+  publish();
+  ++ticks_;
+  backendStatus(backend_.advance(), "advance");
+}
+
+double ControlLoop::secondsSince(std::uint64_t start_ns) const {
+  return static_cast<double>(nowNs() - start_ns) * 1e-9;
+}
+
+void ControlLoop::readSensors() {
+  const backend::Status st = backend_.read(sensors_);
+  sensors_ok_ = false;
+  if (st != backend::Status::kOk) {
+    backendStatus(st, "read");
+    return;
+  }
+  if (ticks_ > 0 && sensors_.sequence == last_sequence_) {
+    std::snprintf(message_, sizeof(message_),
+                  "backend read(): sensor sequence %llu repeated: the data did not change",
+                  static_cast<unsigned long long>(sensors_.sequence));
+    raise(FaultKind::kBackendStale, message_);
+    return;
+  }
+  last_sequence_ = sensors_.sequence;
+  if (!std::isfinite(sensors_.time)) {
+    raise(FaultKind::kNotANumber, "backend read(): the time is not a number");
+    return;
+  }
+  for (int j = 0; j < nj_; ++j) {
+    const int b = backend_index_[j];
+    q_[j] = sensors_.q[b];
+    dq_[j] = sensors_.dq[b];
+    tau_[j] = sensors_.tau[b];
+    if (!std::isfinite(q_[j]) || !std::isfinite(dq_[j]) || !std::isfinite(tau_[j])) {
+      std::snprintf(message_, sizeof(message_),
+                    "backend read(): joint %s: position, velocity or torque is not a number",
+                    joint_names_[j].c_str());
+      raise(FaultKind::kNotANumber, message_);
+      return;
+    }
+  }
+  const backend::Imu& imu = sensors_.imu;
+  if (sensors_.imu_valid && !(finite3(imu.angular_velocity) && finite3(imu.linear_acceleration) &&
+                              finite3(imu.orientation) && std::isfinite(imu.orientation[3]))) {
+    raise(FaultKind::kNotANumber, "backend read(): the IMU reading is not a number");
+    return;
+  }
+  last_t_ = t_;
+  t_ = sensors_.time;
+  double dt = t_ - last_t_;
+  if (ticks_ == 0 || !(dt > 0.0)) dt = period_;
+  estimator_.update(sensors_, q_, dq_, tau_, dt, input_.state);
+  sensors_ok_ = true;
+}
+
+void ControlLoop::handleCommands() {
+  OperatorCommand c;
+  // A bounded number per tick keeps a flood of requests from stretching one tick.
+  for (int n = 0; n < 8 && commands_.tryPop(c); ++n) {
+    CommandReply reply;
+    reply.sequence = c.sequence;
+    if (shutting_down_) {
+      reply.refusal = Refusal::kRefused;
+      copyText(reply.message, "ballastd is shutting down");
+    } else if (c.kind == CommandKind::kSwitchSettings) {
+      applySettings(c.settings, reply);
+    } else if (c.kind == CommandKind::kPush) {
+      const backend::Capabilities& caps = backend_.capabilities();
+      const double f =
+          std::sqrt(c.push.force[0] * c.push.force[0] + c.push.force[1] * c.push.force[1] +
+                    c.push.force[2] * c.push.force[2]);
+      backend::Error err;
+      if (!caps.disturbance) {
+        reply.refusal = Refusal::kUnavailable;
+        std::snprintf(reply.message, sizeof(reply.message),
+                      "backend '%s' takes no external pushes (simulation only)", caps.name);
+      } else if (f > settings_->max_push_force || c.push.duration > settings_->max_push_duration) {
+        reply.refusal = Refusal::kOutOfRange;
+        std::snprintf(reply.message, sizeof(reply.message),
+                      "push of %.1f N for %.2f s is beyond safety.max_push_force %.1f N or "
+                      "safety.max_push_duration %.2f s",
+                      f, c.push.duration, settings_->max_push_force, settings_->max_push_duration);
+      } else if (!backend_.push(c.push, err)) {
+        reply.refusal = Refusal::kBackend;
+        copyText(reply.message, err.message);
+      }
+    } else {
+      Situation s;
+      s.fallen = fallen_;
+      s.planner_available = planner_.available();
+      s.push_available = backend_.capabilities().disturbance;
+      reply.refusal = modes_.handle(c, t_, s, reply.message);
+    }
+    reply.mode = modes_.mode();
+    replies_.tryPush(reply);
+    notifyIo();
+  }
+}
+
+void ControlLoop::applySettings(const ControlSettings* next, CommandReply& reply) {
+  // Gains blend from what is in force now to the new ones over gain_blend_time.
+  blend_kp_ = kp_;
+  blend_kd_ = kd_;
+  blend_start_ = t_;
+  reply.retired = settings_;
+  settings_ = next;
+  estimator_.setSettings(*next);
+  stand_.setSettings(*next);
+  modes_.configure(*next, stand_.nominalHeight());
+  ++settings_generation_;
+  std::snprintf(reply.message, sizeof(reply.message), "gains blend over %.2f s",
+                next->gain_blend_time);
+}
+
+void ControlLoop::detectFall() {
+  if (!sensors_ok_) return;
+  const ControlSettings& s = *settings_;
+  const BaseState& b = input_.state.base;
+  const model::Mat3<double> R = model::quaternionToRotation<double>(b.orientation);
+  const double tilt = std::acos(std::clamp(R(2, 2), -1.0, 1.0));
+  double height = b.position[2] - s.ground_height;
+  if (sensors_.has_truth) height = sensors_.truth.base_position[2] - s.ground_height;
+  const bool nonFoot = sensors_.has_truth && sensors_.truth.non_foot_contact;
+  fallen_ =
+      tilt > s.max_tilt || height < s.min_base_height || (nonFoot && s.fall_on_non_foot_contact);
+  const Mode m = modes_.mode();
+  if (!fallen_ || !(m == Mode::kStandUp || m == Mode::kStand || m == Mode::kWalk)) return;
+  if (tilt > s.max_tilt)
+    std::snprintf(message_, sizeof(message_), "fall: base tilted %.2f rad (safety.max_tilt %.2f)",
+                  tilt, s.max_tilt);
+  else if (height < s.min_base_height)
+    std::snprintf(message_, sizeof(message_),
+                  "fall: base height %.3f m (safety.min_base_height %.3f)", height,
+                  s.min_base_height);
+  else
+    std::snprintf(message_, sizeof(message_),
+                  "fall: a body other than the feet touches the ground");
+  raise(FaultKind::kFall, message_);
+}
+
+void ControlLoop::computeCommands() {
+  const ControlSettings& s = *settings_;
+  // Gains in force: the new settings', blended in after a switch.
+  double w = 1.0;
+  if (blend_start_ >= 0.0) {
+    w = s.gain_blend_time > 0.0 ? std::clamp((t_ - blend_start_) / s.gain_blend_time, 0.0, 1.0)
+                                : 1.0;
+    if (w >= 1.0) blend_start_ = -1.0;
+  }
+  for (int j = 0; j < nj_; ++j) {
+    kp_[j] = w >= 1.0 ? s.kp[j] : blend_kp_[j] + w * (s.kp[j] - blend_kp_[j]);
+    kd_[j] = w >= 1.0 ? s.kd[j] : blend_kd_[j] + w * (s.kd[j] - blend_kd_[j]);
+  }
+
+  const Mode mode = last_mode_;
+  const double* q = sensors_ok_ ? q_ : input_.state.q;
+  if (!started_ || mode == Mode::kPassive) {
+    passiveOutput(nj_, q, output_);
+    return;
+  }
+  if (mode == Mode::kDamp || !sensors_ok_) {
+    dampOutput(nj_, q, s.damping, output_);
+    return;
+  }
+  input_.mode = mode;
+  input_.t = t_;
+  input_.stand_up_progress = modes_.standUpProgress(t_);
+  input_.command = modes_.command();
+  input_.plan = plan_;
+  // stand-up, stand, walk: the standing controller (the whole-body controller takes this seat).
+  stand_.compute(input_, kp_.data(), kd_.data(), period_, output_);
+}
+
+void ControlLoop::guardCommands() {
+  for (int j = 0; j < nj_; ++j) {
+    const backend::JointCommand& c = output_.joint[j];
+    if (std::isfinite(c.tau_ff) && std::isfinite(c.q_des) && std::isfinite(c.dq_des) &&
+        std::isfinite(c.kp) && std::isfinite(c.kd))
+      continue;
+    std::snprintf(message_, sizeof(message_),
+                  "controller: the command for joint %s is not a number; damping instead",
+                  joint_names_[j].c_str());
+    raise(FaultKind::kNotANumber, message_);
+    dampOutput(nj_, input_.state.q, settings_->damping, output_);
+    return;
+  }
+}
+
+void ControlLoop::writeCommands() {
+  commands_out_.time = t_;
+  for (int j = 0; j < nj_; ++j) commands_out_.joint[backend_index_[j]] = output_.joint[j];
+  backendStatus(backend_.write(commands_out_), "write");
+}
+
+void ControlLoop::publish() {
+  LoopStatus& p = published_;
+  p.t = t_;
+  p.ticks = ticks_;
+  p.mode = shutting_down_ ? Mode::kDamp : modes_.mode();
+  p.estop = modes_.estopLatched();
+  p.fallen = fallen_;
+  p.lockstep = options_.lockstep;
+  p.planner_available = planner_.available();
+  p.stand_up_progress = modes_.standUpProgress(t_);
+  p.base = input_.state.base;
+  p.has_truth = sensors_.has_truth;
+  p.truth = truth_;
+  p.truth_non_foot_contact = sensors_.has_truth && sensors_.truth.non_foot_contact;
+  p.command = modes_.command();
+  for (int c = 0; c < kNumContacts; ++c) p.contacts[c] = input_.state.contact[c];
+  p.mpc_ms = plan_ ? plan_->solve_ms : 0.0;
+  p.wbc_ms = wbc_ms_;
+  p.wbc_ms_max = wbc_ms_max_;
+  p.tick_overruns = overruns_;
+  p.faults = modes_.faults();
+  p.telemetry_frames = recorded_;
+  p.telemetry_dropped = dropped_;
+  p.settings_generation = settings_generation_;
+  p.num_joints = nj_;
+  for (int j = 0; j < nj_; ++j) {
+    p.q[j] = input_.state.q[j];
+    p.tau[j] = output_.joint[j].tau_ff;
+  }
+  status_.store(p);
+}
+
+void ControlLoop::updateTruth() {
+  if (!sensors_.has_truth) return;
+  const backend::Truth& tr = sensors_.truth;
+  for (int i = 0; i < 3; ++i) {
+    truth_.position[i] = tr.base_position[i];
+    truth_.linear_velocity[i] = tr.base_linear_velocity[i];
+    truth_.angular_velocity[i] = tr.base_angular_velocity[i];
+  }
+  for (int i = 0; i < 4; ++i) truth_.orientation[i] = tr.base_orientation[i];
+  fillRpy(truth_);
+}
+
+void ControlLoop::record() {
+  const std::uint32_t id = writer_ ? writer_->activeRecording() : 0;
+  if (id == 0 || ticks_ % static_cast<std::uint64_t>(settings_->telemetry_decimation) != 0) return;
+  TelemetryFrame& f = frame_;
+  f.recording = id;
+  f.t = t_;
+  f.mode = last_mode_;
+  f.base = input_.state.base;
+  f.has_truth = sensors_.has_truth;
+  f.truth = truth_;
+  f.command = modes_.command();
+  for (int c = 0; c < kNumContacts; ++c) f.contact[c] = input_.state.contact[c];
+  for (int i = 0; i < kNumPriorityLevels; ++i) f.task_error[i] = output_.task_error[i];
+  f.mpc_ms = plan_ ? plan_->solve_ms : 0.0;
+  f.wbc_ms = wbc_ms_;
+  f.num_joints = nj_;
+  for (int j = 0; j < nj_; ++j) {
+    f.q[j] = input_.state.q[j];
+    f.dq[j] = input_.state.dq[j];
+    f.tau[j] = input_.state.tau[j];
+    f.q_ref[j] = output_.q_ref[j];
+    f.tau_ff[j] = output_.joint[j].tau_ff;
+  }
+  if (telemetry_.tryPush(f)) {
+    ++recorded_;
+    return;
+  }
+  if (options_.lockstep) {
+    // Simulated time waits for the writer; a writer gone for 0.2 s of wall time loses frames.
+    const std::uint64_t start = nowNs();
+    while (secondsSince(start) < 0.2) {
+      std::this_thread::yield();
+      if (telemetry_.tryPush(f)) {
+        ++recorded_;
+        return;
+      }
+    }
+  }
+  ++dropped_;
+}
+
+}  // namespace ballast::control

@@ -1,0 +1,140 @@
+// The control loop: one thread, one tick per control period, read top to bottom in tick().
+//
+//   read sensors -> estimate -> operator commands -> modes, safety -> planner post
+//   -> controller -> NaN guard -> write commands -> publish status, telemetry -> advance
+//
+// It talks to the other threads only through lock-free structures sized at construction:
+// commands arrive in an SPSC ring from the IO thread, replies and log events leave in two
+// more, the status is published through a seqlock, telemetry frames through a ring the writer
+// thread drains, and a profile switch arrives as a pointer inside a command (the old settings
+// go back in the reply for the IO side to free). tick() allocates nothing and takes no lock
+// (test/unit/control/no_allocation_test.cpp interposes malloc to check).
+//
+// Faults (backend kFault/kOverrun/kStale, repeated sensor sequence, NaN in sensors or commands,
+// a fall) put the robot in damp until `reset`. Real time: advance() paces the loop and a tick
+// whose computation exceeds the period counts as an overrun. Lockstep: advance() steps the
+// simulation, so the loop runs as fast as the backend and simulation time is controller time.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <memory>
+
+#include "control/leg_odometry.hpp"
+#include "control/mode_machine.hpp"
+#include "control/planner_slot.hpp"
+#include "control/seqlock.hpp"
+#include "control/settings.hpp"
+#include "control/spsc_ring.hpp"
+#include "control/stand_controller.hpp"
+#include "control/telemetry.hpp"
+#include "model/model.hpp"
+
+namespace ballast::control {
+
+struct LoopOptions {
+  bool lockstep = false;
+  std::size_t command_capacity = 64;
+  std::size_t telemetry_capacity = 4096;
+  int shutdown_ticks = 50;  ///< damped ticks before backend stop() at shutdown
+};
+
+class ControlLoop {
+ public:
+  /// The backend must be configured and started. Throws std::runtime_error when its joints do
+  /// not match the model (names listed), model::ModelError for missing frames.
+  ControlLoop(const model::Model& model, backend::Backend& backend, const ControlSettings& settings,
+              const LoopOptions& options);
+  ~ControlLoop();
+  ControlLoop(const ControlLoop&) = delete;
+  ControlLoop& operator=(const ControlLoop&) = delete;
+
+  /// Before run(): seat a planner (its thread starts here). nullptr leaves the slot empty.
+  void attachPlanner(Planner* planner);
+
+  // ---- IO thread (single producer of commands, single consumer of replies and events) ----
+  /// False if the command ring is full.
+  bool submit(const OperatorCommand& command);
+  bool popReply(CommandReply& reply) { return replies_.tryPop(reply); }
+  bool popEvent(LoopEvent& event) { return events_.tryPop(event); }
+  /// An eventfd that becomes readable when replies or events wait (read it to rearm).
+  int wakeFd() const { return wake_fd_; }
+
+  // ---- any thread ----
+  LoopStatus status() const { return status_.load(); }
+  TelemetryRing& telemetryRing() { return telemetry_; }
+  /// The writer whose recording state the loop follows (nullptr: no telemetry).
+  void setTelemetryWriter(const TelemetryWriter* writer) { writer_ = writer; }
+  const std::vector<std::string>& jointNames() const { return joint_names_; }
+  double nominalHeight() const { return stand_.nominalHeight(); }
+
+  // ---- control thread ----
+  /// Ticks until stop is set, then damps for shutdown_ticks and stops the backend.
+  void run(const std::atomic<bool>& stop);
+  /// One control period.
+  void tick();
+
+ private:
+  void readSensors();
+  void handleCommands();
+  void applySettings(const ControlSettings* next, CommandReply& reply);
+  void detectFall();
+  void computeCommands();
+  void guardCommands();
+  void writeCommands();
+  void publish();
+  void updateTruth();
+  void record();
+  void raise(FaultKind kind, const char* message);
+  void event(bool warning, const char* message);
+  void backendStatus(backend::Status status, const char* call);
+  void notifyIo();
+  double secondsSince(std::uint64_t start_ns) const;
+
+  const model::Model& model_;
+  backend::Backend& backend_;
+  const ControlSettings* settings_;
+  LoopOptions options_;
+  int nj_;
+  std::vector<std::string> joint_names_;
+  std::array<int, kMaxJoints> backend_index_{};  // model joint -> backend joint
+
+  LegOdometry estimator_;
+  StandController stand_;
+  ModeMachine modes_;
+  PlannerSlot planner_;
+  const PlannerOutput* plan_ = nullptr;
+
+  SpscRing<OperatorCommand> commands_;
+  SpscRing<CommandReply> replies_;
+  SpscRing<LoopEvent> events_;
+  SeqLock<LoopStatus> status_;
+  TelemetryRing telemetry_;
+  const TelemetryWriter* writer_ = nullptr;
+  int wake_fd_ = -1;
+
+  // Per-tick state (all preallocated).
+  backend::Sensors sensors_;
+  backend::Commands commands_out_;
+  ControllerInput input_;
+  ControllerOutput output_;
+  PlannerInput planner_input_;
+  LoopStatus published_;
+  TelemetryFrame frame_;
+  BaseState truth_;
+  double q_[kMaxJoints] = {}, dq_[kMaxJoints] = {}, tau_[kMaxJoints] = {};
+  std::array<double, kMaxJoints> kp_{}, kd_{}, blend_kp_{}, blend_kd_{};
+  double blend_start_ = -1.0;
+  bool sensors_ok_ = false;
+  bool started_ = false;
+  bool shutting_down_ = false;
+  bool fallen_ = false;
+  Mode last_mode_ = Mode::kPassive;
+  std::uint64_t ticks_ = 0, last_sequence_ = 0, overruns_ = 0, dropped_ = 0, recorded_ = 0;
+  std::uint64_t settings_generation_ = 0;
+  double t_ = 0.0, last_t_ = 0.0, period_ = 0.001;
+  double wbc_ms_ = 0.0, wbc_ms_max_ = 0.0;
+  char message_[kMessageLength] = {};
+};
+
+}  // namespace ballast::control

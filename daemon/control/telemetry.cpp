@@ -1,0 +1,175 @@
+#include "control/telemetry.hpp"
+
+#include <charconv>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "model/base_conventions.hpp"
+
+namespace ballast::control {
+
+namespace {
+
+/// Velocity in the heading frame (yaw only): forward and lateral.
+void headingVelocity(const BaseState& b, double& forward, double& lateral) {
+  const double c = std::cos(b.rpy[2]), s = std::sin(b.rpy[2]);
+  forward = c * b.linear_velocity[0] + s * b.linear_velocity[1];
+  lateral = -s * b.linear_velocity[0] + c * b.linear_velocity[1];
+}
+
+void put(std::string& line, double x) {
+  char buf[32];
+  if (std::isnan(x)) {
+    line += "NaN\t";
+    return;
+  }
+  const auto r = std::to_chars(buf, buf + sizeof(buf), x, std::chars_format::general, 9);
+  line.append(buf, r.ptr);
+  line += '\t';
+}
+
+void putBase(std::string& line, const BaseState& b, bool valid) {
+  double f = kNaN, l = kNaN;
+  if (valid) headingVelocity(b, f, l);
+  const double* groups[3] = {b.position, b.linear_velocity, b.rpy};
+  for (const double* g : groups)
+    for (int i = 0; i < 3; ++i) put(line, valid ? g[i] : kNaN);
+  put(line, f);
+  put(line, l);
+}
+
+}  // namespace
+
+std::vector<std::string> telemetryColumns(const std::vector<std::string>& joints) {
+  std::vector<std::string> c = {"t", "mode"};
+  for (const char* prefix : {"", "true_"})
+    for (const char* n :
+         {"x", "y", "z", "vx", "vy", "vz", "roll", "pitch", "yaw", "v_fwd", "v_lat"})
+      c.push_back(std::string(prefix) + n);
+  for (const char* n :
+       {"cmd_vx", "cmd_vy", "cmd_yaw_rate", "cmd_height", "cmd_roll", "cmd_pitch", "cmd_yaw"})
+    c.push_back(n);
+  for (int i = 0; i < kNumContacts; ++i) c.push_back("contact_" + std::to_string(i));
+  for (int i = 1; i <= kNumPriorityLevels; ++i) c.push_back("err_p" + std::to_string(i));
+  c.push_back("mpc_ms");
+  c.push_back("wbc_ms");
+  for (const char* prefix : {"q_", "dq_", "tau_", "qref_", "tauff_"})
+    for (const auto& j : joints) c.push_back(prefix + j);
+  return c;
+}
+
+void formatTelemetryLine(const TelemetryFrame& f, std::string& line) {
+  put(line, f.t);
+  put(line, static_cast<double>(f.mode));
+  putBase(line, f.base, true);
+  putBase(line, f.truth, f.has_truth);
+  const BaseCommand& c = f.command;
+  for (double x : {c.vx, c.vy, c.yaw_rate, c.height, c.roll, c.pitch, c.yaw}) put(line, x);
+  for (bool b : f.contact) put(line, b ? 1.0 : 0.0);
+  for (double e : f.task_error) put(line, e);
+  put(line, f.mpc_ms);
+  put(line, f.wbc_ms);
+  const double* arrays[5] = {f.q, f.dq, f.tau, f.q_ref, f.tau_ff};
+  for (const double* a : arrays)
+    for (int j = 0; j < f.num_joints; ++j) put(line, a[j]);
+  line.back() = '\n';
+}
+
+TelemetryWriter::TelemetryWriter(TelemetryRing& ring, std::vector<std::string> joint_names)
+    : ring_(ring), joint_names_(std::move(joint_names)) {}
+
+TelemetryWriter::~TelemetryWriter() {
+  stop();
+}
+
+void TelemetryWriter::start() {
+  thread_ = std::thread([this] { run(); });
+}
+
+void TelemetryWriter::stop() {
+  if (thread_.joinable()) {
+    std::uint64_t frames;
+    std::string path;
+    stopRecording(frames, path);
+    stop_ = true;
+    thread_.join();
+  }
+}
+
+bool TelemetryWriter::startRecording(const std::string& path, std::string& error) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (file_) {
+    error = "already recording to " + path_ + ": run `ballast record stop` first";
+    return false;
+  }
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) {
+    error = "cannot write " + path + ": " + std::strerror(errno);
+    return false;
+  }
+  std::fputs("# ballast telemetry 1\n# ", f);
+  const auto cols = telemetryColumns(joint_names_);
+  for (std::size_t i = 0; i < cols.size(); ++i)
+    std::fprintf(f, "%s%c", cols[i].c_str(), i + 1 < cols.size() ? '\t' : '\n');
+  file_ = f;
+  path_ = path;
+  frames_ = 0;
+  file_id_ = ++next_id_;
+  recording_.store(file_id_, std::memory_order_relaxed);
+  return true;
+}
+
+bool TelemetryWriter::stopRecording(std::uint64_t& frames, std::string& path) {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!file_) return false;
+    recording_.store(0, std::memory_order_relaxed);
+  }
+  // The loop may be pushing the recording's last frame right now: give the writer a moment to
+  // take everything queued, then close.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(2);
+  std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  while (ring_.size() > 0 && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  std::lock_guard<std::mutex> lock(mutex_);
+  drain(ring_.capacity());
+  std::fclose(file_);
+  file_ = nullptr;
+  file_id_ = 0;
+  frames = frames_;
+  path = path_;
+  return true;
+}
+
+std::string TelemetryWriter::path() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return path_;
+}
+
+std::size_t TelemetryWriter::drain(std::size_t max_frames) {
+  TelemetryFrame frame;
+  std::size_t n = 0;
+  for (; n < max_frames && ring_.tryPop(frame); ++n) {
+    if (!file_ || frame.recording != file_id_) continue;
+    line_.clear();
+    formatTelemetryLine(frame, line_);
+    std::fwrite(line_.data(), 1, line_.size(), file_);
+    ++frames_;
+  }
+  return n;
+}
+
+void TelemetryWriter::run() {
+  constexpr std::size_t kBatch = 512;  // lets the IO thread in between batches
+  while (!stop_.load()) {
+    std::size_t n;
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      n = drain(kBatch);
+    }
+    if (n < kBatch) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+}
+
+}  // namespace ballast::control

@@ -1,0 +1,89 @@
+// Telemetry: one frame per control tick (every telemetry.decimation ticks), written by its own
+// thread as tab-separated text that gnuplot and `ballast plot` read directly.
+//
+// The loop fills a TelemetryFrame and pushes it into a ring; it never formats, allocates or
+// touches the file. The writer thread drains the ring into the file while recording. If the
+// ring is full the loop drops the frame and counts it (real time), or, in lockstep, waits for
+// room, since there simulated time waits with it.
+//
+// File format (ballast(1) documents it): a first line "# ballast telemetry 1", a second line
+// "# " followed by the tab-separated column names (telemetryColumns), then one line per frame.
+// NaN marks a value that does not exist (no ground truth, no such priority level).
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <cstdio>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "control/spsc_ring.hpp"
+#include "control/types.hpp"
+
+namespace ballast::control {
+
+struct TelemetryFrame {
+  std::uint32_t recording = 0;  ///< which recording it belongs to
+  double t = 0.0;
+  Mode mode = Mode::kPassive;
+  BaseState base;
+  bool has_truth = false;
+  BaseState truth;
+  BaseCommand command;
+  bool contact[kNumContacts] = {};
+  double task_error[kNumPriorityLevels] = {};
+  double mpc_ms = 0.0, wbc_ms = 0.0;
+  int num_joints = 0;
+  double q[kMaxJoints] = {}, dq[kMaxJoints] = {}, tau[kMaxJoints] = {};
+  double q_ref[kMaxJoints] = {}, tau_ff[kMaxJoints] = {};
+};
+
+using TelemetryRing = SpscRing<TelemetryFrame>;
+
+/// Column names, in file order, for a robot with these joints.
+std::vector<std::string> telemetryColumns(const std::vector<std::string>& joint_names);
+/// Appends one frame as a line (tab-separated, '\n'-terminated).
+void formatTelemetryLine(const TelemetryFrame& frame, std::string& line);
+
+class TelemetryWriter {
+ public:
+  TelemetryWriter(TelemetryRing& ring, std::vector<std::string> joint_names);
+  ~TelemetryWriter();
+
+  void start();
+  /// Drains what is left of the current recording, closes it and ends the thread.
+  void stop();
+
+  /// IO side. Opens path (truncating) and starts a recording; false with a message if the file
+  /// cannot be opened or a recording is already on.
+  bool startRecording(const std::string& path, std::string& error);
+  /// Ends the recording after writing every frame the loop produced for it. Returns the frames
+  /// written; false if nothing was recording.
+  bool stopRecording(std::uint64_t& frames, std::string& path);
+  bool recording() const { return recording_.load(std::memory_order_relaxed) != 0; }
+  std::string path() const;
+
+  /// Loop side: the recording frames belong to, 0 when none.
+  std::uint32_t activeRecording() const { return recording_.load(std::memory_order_relaxed); }
+
+ private:
+  void run();
+  std::size_t drain(std::size_t max_frames);
+
+  TelemetryRing& ring_;
+  std::vector<std::string> joint_names_;
+  std::atomic<std::uint32_t> recording_{0};
+  std::uint32_t next_id_ = 0;
+  mutable std::mutex mutex_;  // file_, path_, file_id_, frames_: writer thread and IO thread
+  std::FILE* file_ = nullptr;
+  std::uint32_t file_id_ = 0;
+  std::string path_;
+  std::uint64_t frames_ = 0;
+  std::string line_;
+  std::atomic<bool> stop_{false};
+  std::thread thread_;
+};
+
+}  // namespace ballast::control

@@ -1,0 +1,213 @@
+// The plain structs the control loop passes between its parts and to the threads around it.
+//
+// Everything here is fixed-size and trivially copyable: it crosses threads through the rings
+// and seqlocks of this directory, and the 1 kHz path copies it without allocating. Joint
+// arrays are in the model's joint order (model.hpp), not the backend's. Frames: world z up;
+// base velocities in the world frame; rpy = [roll, pitch, yaw] with R = Rz·Ry·Rx.
+//
+// The parts that plug into the loop see only these structs:
+//   estimator  : backend::Sensors          -> EstimatedState
+//   planner    : PlannerInput              -> PlannerOutput     (own thread, >= 100 Hz)
+//   controller : ControllerInput           -> ControllerOutput  (every tick)
+#pragma once
+
+#include <cstdint>
+#include <limits>
+
+#include "backend_abi.hpp"
+
+namespace ballast::control {
+
+inline constexpr int kMaxJoints = backend::kMaxJoints;
+/// The paper's four contact points: toe and heel of each foot (robot.contact_frames).
+inline constexpr int kNumContacts = 4;
+/// Priority levels of the whole-body controller (paper, Table I).
+inline constexpr int kNumPriorityLevels = 4;
+inline constexpr int kMessageLength = 200;
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+enum class Mode : std::uint8_t { kPassive, kStandUp, kStand, kWalk, kDamp };
+
+/// "passive", "stand-up", "stand", "walk", "damp": the names status reports.
+const char* modeName(Mode mode);
+
+struct BaseState {
+  double position[3] = {};               ///< world, m
+  double orientation[4] = {0, 0, 0, 1};  ///< world <- base, quaternion (x, y, z, w)
+  double linear_velocity[3] = {};        ///< world, m/s
+  double angular_velocity[3] = {};       ///< world, rad/s
+  double rpy[3] = {};                    ///< roll, pitch, yaw of orientation, rad
+};
+
+struct EstimatedState {
+  double t = 0.0;  ///< controller time, s
+  BaseState base;
+  int num_joints = 0;
+  double q[kMaxJoints] = {};    ///< rad
+  double dq[kMaxJoints] = {};   ///< rad/s
+  double tau[kMaxJoints] = {};  ///< measured, N·m
+  bool contact[kNumContacts] = {};
+  double contact_position[kNumContacts][3] = {};  ///< world
+};
+
+/// What the operator asks of the base: a velocity (walking) and a standing pose.
+struct BaseCommand {
+  double vx = 0.0, vy = 0.0;  ///< m/s, heading frame (x forward, y left)
+  double yaw_rate = 0.0;      ///< rad/s
+  bool velocity_active = false;
+  double expires_at = 0.0;  ///< controller time at which the velocity drops to zero
+  double height = 0.0;      ///< base height above the ground, m
+  double roll = 0.0, pitch = 0.0, yaw = 0.0;  ///< base orientation relative to the feet, rad
+};
+
+/// Planner slot. The kino-dynamic MPC (daemon/mpc, daemon/gait) fills PlannerOutput; until it
+/// exists the slot is empty and `walk` is refused.
+struct PlannerInput {
+  std::uint64_t sequence = 0;
+  double t = 0.0;
+  Mode mode = Mode::kPassive;
+  EstimatedState state;
+  BaseCommand command;
+};
+struct PlannerOutput {
+  std::uint64_t sequence = 0;  ///< of the PlannerInput it answers
+  double t = 0.0;              ///< controller time the plan starts at
+  bool valid = false;          ///< false: solver failure or NaN; the loop keeps the last valid plan
+  double solve_ms = 0.0;
+  // The planner adds its optimal state and input trajectories x*(t), u*(t) and the contact
+  // schedule here (fixed-size arrays).
+};
+
+struct ControllerInput {
+  Mode mode = Mode::kPassive;
+  double t = 0.0;
+  double stand_up_progress = 0.0;  ///< 0..1 during stand-up
+  EstimatedState state;
+  BaseCommand command;
+  const PlannerOutput* plan = nullptr;  ///< latest valid plan, nullptr if none
+};
+struct ControllerOutput {
+  backend::JointCommand joint[kMaxJoints];
+  /// Tracking error of each priority level (1: dynamics/contacts ... 4: contact forces), as
+  /// the controller defines it; NaN where the controller has no such level.
+  double task_error[kNumPriorityLevels] = {kNaN, kNaN, kNaN, kNaN};
+  double q_ref[kMaxJoints] = {};  ///< joint reference the controller tracks (telemetry)
+};
+
+enum class FaultKind : std::uint8_t {
+  kBackendFault,
+  kBackendOverrun,
+  kBackendStale,
+  kNotANumber,
+  kFall,
+  kEstop,
+  kPlanner,
+};
+/// "backend_fault", "backend_overrun", "backend_stale", "nan", "fall", "estop", "planner".
+const char* faultName(FaultKind kind);
+
+struct Fault {
+  FaultKind kind = FaultKind::kBackendFault;
+  double t = 0.0;           ///< first occurrence
+  std::uint32_t count = 0;  ///< occurrences since the last reset
+  char message[kMessageLength] = {};
+};
+
+/// Faults since the last reset, one entry per kind (the first message kept, occurrences counted).
+struct FaultList {
+  static constexpr int kCapacity = 8;
+  Fault fault[kCapacity];
+  int size = 0;
+  /// Returns true when this kind is new since the last clear().
+  bool add(FaultKind kind, double t, const char* message);
+  void clear() { size = 0; }
+  bool has(FaultKind kind) const;
+};
+
+/// What the loop publishes every tick (seqlock); status requests are answered from it.
+struct LoopStatus {
+  double t = 0.0;
+  std::uint64_t ticks = 0;
+  Mode mode = Mode::kPassive;
+  bool estop = false;  ///< estop latched
+  bool fallen = false;
+  bool lockstep = false;
+  bool planner_available = false;
+  double stand_up_progress = 0.0;
+  BaseState base;  ///< estimated
+  bool has_truth = false;
+  BaseState truth;  ///< simulator ground truth (has_truth)
+  bool truth_non_foot_contact = false;
+  BaseCommand command;
+  bool contacts[kNumContacts] = {};
+  double mpc_ms = 0.0;      ///< last planner solve
+  double wbc_ms = 0.0;      ///< last controller computation (read to write)
+  double wbc_ms_max = 0.0;  ///< since start
+  std::uint64_t tick_overruns = 0;
+  FaultList faults;
+  std::uint64_t telemetry_frames = 0;
+  std::uint64_t telemetry_dropped = 0;
+  std::uint64_t settings_generation = 0;  ///< bumps when a profile switch takes effect
+  int num_joints = 0;
+  double q[kMaxJoints] = {};
+  double tau[kMaxJoints] = {};
+};
+
+/// Operator commands, IO thread -> loop (ring).
+enum class CommandKind : std::uint8_t {
+  kStand,
+  kWalk,
+  kPose,
+  kStop,
+  kEstop,
+  kReset,
+  kPassive,
+  kPush,
+  kSwitchSettings,
+};
+
+struct ControlSettings;
+
+struct OperatorCommand {
+  std::uint64_t sequence = 0;
+  CommandKind kind = CommandKind::kStop;
+  double vx = 0.0, vy = 0.0, yaw_rate = 0.0, ttl = 0.0;      ///< walk (ttl <= 0: the profile's)
+  double height = kNaN, roll = 0.0, pitch = 0.0, yaw = 0.0;  ///< pose (height NaN: nominal)
+  backend::Push push;                                        ///< push
+  const ControlSettings* settings = nullptr;                 ///< switch: owned by the IO side
+};
+
+/// Why the loop refused a command.
+enum class Refusal : std::uint8_t {
+  kNone,
+  kRefused,      ///< not in this mode (the message says what to do)
+  kUnavailable,  ///< the capability does not exist (no planner, no disturbance input)
+  kOutOfRange,   ///< beyond the profile's safety limits
+  kBackend,      ///< the backend said no
+};
+
+/// Loop -> IO thread (ring): the answer to one OperatorCommand.
+struct CommandReply {
+  std::uint64_t sequence = 0;
+  Refusal refusal = Refusal::kNone;
+  Mode mode = Mode::kPassive;  ///< after the command
+  char message[kMessageLength] = {};
+  const ControlSettings* retired = nullptr;  ///< switch: the settings the IO side may free now
+};
+
+/// Loop -> IO thread (ring): something worth a log line (mode changes, faults).
+struct LoopEvent {
+  double t = 0.0;
+  bool warning = false;
+  char message[kMessageLength] = {};
+};
+
+/// Copies text into a fixed buffer, truncating (the loop's way of keeping a message).
+template <int N>
+void copyText(char (&out)[N], const char* text) {
+  int i = 0;
+  for (; text && text[i] && i + 1 < N; ++i) out[i] = text[i];
+  out[i] = '\0';
+}
+
+}  // namespace ballast::control

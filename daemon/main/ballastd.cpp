@@ -1,0 +1,224 @@
+// ballastd: the whole-body control daemon. Read top to bottom:
+//
+//   1. options; --dump-schema answers without a profile
+//   2. the profile (validated), the robot model, the control settings
+//   3. the backend plugin: load, configure with its own profile section, start
+//   4. the control loop (its own thread), the telemetry writer (its own thread)
+//   5. the socket server on this thread until SIGTERM/SIGINT; SIGHUP reloads the profile
+//   6. shutdown: the loop damps and stops the backend, telemetry is flushed, the socket removed
+//
+// Any problem before the loop starts is printed (file:line:column: key: what is wrong for a
+// profile) and ballastd exits 1 without touching the robot; a bad command line exits 2.
+#include <pthread.h>
+#include <sched.h>
+#include <signal.h>
+
+#include <atomic>
+#include <cstdio>
+#include <cstring>
+#include <iostream>
+#include <memory>
+#include <thread>
+
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <CLI/CLI.hpp>
+
+#include "backend/plugin_loader.hpp"
+#include "control/control_loop.hpp"
+#include "control/telemetry.hpp"
+#include "profile/profile.hpp"
+#include "profile/schema.hpp"
+#include "profile/settings.hpp"
+#include "server/server.hpp"
+
+using namespace ballast;
+
+namespace {
+
+int startupError(const std::string& what) {
+  std::fprintf(stderr, "ballastd: %s\n", what.c_str());
+  return 1;
+}
+
+/// Real-time priority for the control thread when the system grants it (it rarely does without
+/// CAP_SYS_NICE; the loop then runs at normal priority, and overruns are counted).
+void tryRealtime(std::thread& t) {
+  sched_param param{};
+  param.sched_priority = 80;
+  if (pthread_setschedparam(t.native_handle(), SCHED_FIFO, &param) != 0)
+    spdlog::debug(
+        "control thread: no SCHED_FIFO priority (needs CAP_SYS_NICE); running at normal priority");
+  else
+    spdlog::info("control thread: SCHED_FIFO priority 80");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // ---- 1. options
+  CLI::App app{"ballastd: whole-body control daemon for humanoids with heavy limbs (ballastd(8))"};
+  std::string profilePath, socketPath, logLevel = "info", dumpSchema;
+  bool lockstep = false, check = false;
+  app.add_option("--profile", profilePath,
+                 "profile (YAML); default: sim-flat from the profile directories");
+  app.add_option("--socket", socketPath,
+                 "socket path (default: the profile's server.socket, else "
+                 "$XDG_RUNTIME_DIR/ballast/ballastd.sock)");
+  app.add_flag("--lockstep", lockstep,
+               "step the simulation once per tick: deterministic, as fast as it runs");
+  app.add_option("--log-level", logLevel, "trace, debug, info, warn, error or off")
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
+  app.add_option("--dump-schema", dumpSchema,
+                 "print every profile key: man (ballast-profile(5)) or yaml, and exit")
+      ->check(CLI::IsMember({"man", "yaml"}));
+  app.add_flag("--check", check, "validate the profile (and the robot model) and exit");
+  app.set_version_flag("--version", BALLAST_VERSION);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  if (dumpSchema == "man") {
+    std::cout << profile::schemaManPage();
+    return 0;
+  }
+  if (dumpSchema == "yaml") {
+    std::cout << profile::schemaYaml();
+    return 0;
+  }
+  auto logger = spdlog::stderr_color_mt("ballastd");
+  spdlog::set_default_logger(logger);
+  spdlog::set_level(spdlog::level::from_str(logLevel));
+  spdlog::set_pattern("%Y-%m-%d %H:%M:%S.%e %^%l%$ %v");
+
+  // SIGTERM/SIGINT/SIGHUP go to the server's signalfd: block them before any thread starts.
+  sigset_t signals;
+  sigemptyset(&signals);
+  for (int s : {SIGTERM, SIGINT, SIGHUP}) sigaddset(&signals, s);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  signal(SIGPIPE, SIG_IGN);
+
+  // ---- 2. profile, model, settings
+  server::DaemonContext ctx;
+  ctx.profile_dirs = profile::defaultProfileDirs();
+  std::unique_ptr<model::Model> model;
+  try {
+    if (profilePath.empty()) profilePath = profile::resolveProfile("sim-flat", ctx.profile_dirs);
+    ctx.profile =
+        std::make_unique<profile::Profile>(profile::Profile::load(profilePath, ctx.profile_dirs));
+    model = std::make_unique<model::Model>(profile::loadModel(*ctx.profile));
+    ctx.settings = new control::ControlSettings(profile::buildSettings(*ctx.profile, *model));
+  } catch (const profile::ProfileError& e) {
+    return startupError("profile " + profilePath + " refused:\n" + e.what());
+  }
+  const profile::Profile& prof = *ctx.profile;
+  if (const std::string map = prof.text("terrain.map"); !map.empty()) {
+    std::string error;
+    if (!ctx.map.load(map, error)) return startupError(prof.problem("terrain.map", error));
+  }
+  if (check) {
+    std::printf("profile %s is valid (%zu file%s; robot %s, %d joints)\n", prof.path().c_str(),
+                prof.files().size(), prof.files().size() == 1 ? "" : "s", model->name.c_str(),
+                model->nj());
+    return 0;
+  }
+
+  // ---- 3. backend
+  std::shared_ptr<backend::Plugin> plugin;
+  backend::BackendPtr backend;
+  try {
+    plugin = backend::Plugin::load(prof.text("backend.name"), prof.strings("backend.plugin_dirs"));
+    backend = plugin->create();
+  } catch (const backend::PluginError& e) {
+    return startupError(prof.problem("backend.name", e.what()));
+  }
+  if (!backend) return startupError("backend " + plugin->path() + ": create() returned nothing");
+  const profile::Profile::BackendSection section = prof.backendSection();
+  const std::string urdf = prof.text("robot.urdf"), terrain = prof.text("terrain.map");
+  std::vector<const char*> contactNames;
+  for (const auto& f : ctx.settings->contact_frames) contactNames.push_back(f.c_str());
+  backend::Config config;
+  config.section_yaml = section.yaml.c_str();
+  config.section_origin = section.origin.c_str();
+  config.urdf_path = urdf.c_str();
+  config.terrain_map = terrain.c_str();
+  config.contact_frames = contactNames.data();
+  config.num_contacts = static_cast<int>(contactNames.size());
+  config.period = 1.0 / ctx.settings->rate;
+  config.lockstep = lockstep;
+  config.seed = static_cast<std::uint64_t>(prof.integer("backend.seed"));
+  backend::Error error;
+  if (!backend->configure(config, error))
+    return startupError("backend " + prof.text("backend.name") + " refused its configuration:\n" +
+                        prof.locateBackendProblem(error.message));
+  const backend::Capabilities& caps = backend->capabilities();
+  if (lockstep && !caps.lockstep)
+    return startupError("--lockstep: backend " + std::string(caps.name) +
+                        " cannot run in lockstep (it is not a simulation): drop --lockstep");
+  if (!backend->start(error))
+    return startupError("backend " + std::string(caps.name) + " failed to start: " + error.message);
+  ctx.backend_name = caps.name;
+  ctx.simulation = caps.simulation;
+
+  // ---- 4. control loop, telemetry
+  control::LoopOptions options;
+  options.lockstep = lockstep;
+  options.telemetry_capacity = static_cast<std::size_t>(prof.integer("telemetry.ring_frames"));
+  std::unique_ptr<control::ControlLoop> loop;
+  try {
+    loop = std::make_unique<control::ControlLoop>(*model, *backend, *ctx.settings, options);
+  } catch (const std::exception& e) {
+    backend->stop();
+    return startupError(e.what());
+  }
+  control::TelemetryWriter writer(loop->telemetryRing(), loop->jointNames());
+  loop->setTelemetryWriter(&writer);
+  writer.start();
+  if (const std::string file = prof.text("telemetry.record_on_start"); !file.empty()) {
+    std::string why;
+    if (!writer.startRecording(file, why)) {
+      backend->stop();
+      return startupError(prof.problem("telemetry.record_on_start", why));
+    }
+  }
+  loop->attachPlanner(nullptr);  // the MPC planner takes this seat (daemon/mpc)
+  ctx.model = model.get();
+  ctx.loop = loop.get();
+  ctx.writer = &writer;
+
+  // ---- 5. server (this thread), loop thread
+  server::Server server(ctx, server::serverConfig(prof, socketPath));
+  try {
+    server.open();
+  } catch (const std::exception& e) {
+    backend->stop();
+    return startupError(e.what());
+  }
+  spdlog::info("ballastd {}: profile {}, backend {} ({}{}), robot {} ({} joints), {} Hz",
+               BALLAST_VERSION, prof.name(), caps.name, caps.simulation ? "simulation" : "hardware",
+               lockstep ? ", lockstep" : "", model->name, model->nj(), ctx.settings->rate);
+  std::atomic<bool> stop{false};
+  std::thread control([&] { loop->run(stop); });
+  if (!lockstep) tryRealtime(control);
+
+  int status = 0;
+  try {
+    server.run();
+  } catch (const std::exception& e) {
+    spdlog::error("server: {}", e.what());
+    status = 1;
+  }
+
+  // ---- 6. shutdown: damp and stop the backend, flush telemetry, remove the socket
+  stop = true;
+  control.join();
+  writer.stop();
+  server.close();
+  const control::LoopStatus last = loop->status();
+  spdlog::info("stopped at t={:.3f} s in {} ({} ticks, {} overruns)", last.t,
+               control::modeName(last.mode), last.ticks, last.tick_overruns);
+  loop.reset();
+  delete ctx.settings;
+  return status;
+}

@@ -1,0 +1,405 @@
+// The schema table. One row per key; the helpers below keep a row on one line or two.
+#include "profile/schema.hpp"
+
+#include <algorithm>
+#include <sstream>
+
+namespace ballast::profile {
+
+namespace {
+
+constexpr double kInf = kUnbounded;
+constexpr double kPi = 3.14159265358979323846;
+
+constexpr Key flag(const char* n, const char* def, const char* doc) {
+  return {n, KeyType::kBool, def, -kInf, kInf, "", doc};
+}
+constexpr Key integer(const char* n, const char* def, double lo, double hi, const char* unit,
+                      const char* doc) {
+  return {n, KeyType::kInt, def, lo, hi, unit, doc};
+}
+constexpr Key number(const char* n, const char* def, double lo, double hi, const char* unit,
+                     const char* doc) {
+  return {n, KeyType::kNumber, def, lo, hi, unit, doc};
+}
+constexpr Key text(const char* n, const char* def, const char* doc) {
+  return {n, KeyType::kString, def, -kInf, kInf, "", doc};
+}
+constexpr Key path(const char* n, const char* def, const char* doc) {
+  return {n, KeyType::kPath, def, -kInf, kInf, "", doc};
+}
+constexpr Key choice(const char* n, const char* def, const char* choices, const char* doc) {
+  return {n, KeyType::kEnum, def, -kInf, kInf, choices, doc};
+}
+constexpr Key numbers(const char* n, const char* def, double lo, double hi, const char* unit,
+                      const char* doc) {
+  return {n, KeyType::kNumberList, def, lo, hi, unit, doc};
+}
+constexpr Key integers(const char* n, const char* def, double lo, double hi, const char* doc) {
+  return {n, KeyType::kIntList, def, lo, hi, "", doc};
+}
+constexpr Key strings(const char* n, const char* def, const char* doc) {
+  return {n, KeyType::kStringList, def, -kInf, kInf, "", doc};
+}
+constexpr Key paths(const char* n, const char* def, const char* doc) {
+  return {n, KeyType::kPathList, def, -kInf, kInf, "", doc};
+}
+constexpr Key numberMap(const char* n, const char* def, double lo, double hi, const char* unit,
+                        const char* doc) {
+  return {n, KeyType::kNumberMap, def, lo, hi, unit, doc};
+}
+constexpr Key groupMap(const char* n, const char* def, const char* doc) {
+  return {n, KeyType::kGroupMap, def, -kInf, kInf, "", doc};
+}
+
+// clang-format off
+const std::vector<Key> kSchema = {
+  // ---- the profile itself
+  text("extends", "", "base profile: a file (relative to this one) or a profile name; maps merge, scalars and lists replace"),
+  text("description", "", "one line about the profile, shown by `ballast profile list`"),
+
+  // ---- robot: the model and its standing posture
+  path("robot.urdf", "", "robot model (URDF); required").needsRestart(),
+  strings("robot.contact_frames", "[left_toe, left_heel, right_toe, right_heel]", "the four contact points (URDF links): left toe, left heel, right toe, right heel").ofLength(4).needsRestart(),
+  text("robot.imu_frame", "imu", "URDF link of the IMU; it must be fixed to the floating base").needsRestart(),
+  groupMap("robot.joint_groups", "{}", "joint groups, name: [URDF joints]; every actuated joint belongs to exactly one").needsRestart(),
+  numberMap("robot.nominal_posture", "{}", -2 * kPi, 2 * kPi, "rad", "standing posture, joint: angle; joints not listed stand at 0"),
+
+  // ---- control: the loop and the standing controller
+  number("control.rate", "1000", 100, 5000, "Hz", "control loop rate").needsRestart(),
+  choice("control.initial_mode", "passive", "passive|stand-up", "mode at start: passive, or stand-up at once (a simulated robot that starts on its feet)").needsRestart(),
+  number("control.stand_up_duration", "2", 0.1, 30, "s", "stand-up: from the posture at its start to the standing posture"),
+  numberMap("control.joint_kp", "{}", 0, 5000, "N·m/rad", "joint stiffness per joint group (motor PD)"),
+  numberMap("control.joint_kd", "{}", 0, 500, "N·m·s/rad", "joint damping per joint group (motor PD)"),
+  flag("control.gravity_compensation", "true", "add the model's gravity torques (least-norm contact forces) to the joint PD"),
+  number("control.gain_blend_time", "0.5", 0, 10, "s", "profile switch: gains blend from the old to the new over this time"),
+  number("control.pose_speed", "0.1", 0.01, 1, "m/s", "standing height changes at most this fast"),
+  number("control.pose_angular_speed", "0.3", 0.01, 3, "rad/s", "standing orientation changes at most this fast"),
+
+  // ---- backend: the plugin and its own section
+  text("backend.name", "simbody", "backend plugin: libballast_backend_<name>.so").needsRestart(),
+  paths("backend.plugin_dirs", "[]", "directories searched first for the plugin; then $BALLAST_PLUGIN_PATH, the build tree, the install tree").needsRestart(),
+  integer("backend.seed", "0", 0, 9007199254740992.0, "", "seed for sensor noise and anything random in the backend").needsRestart(),
+
+  // ---- gait (daemon/gait)
+  number("gait.period", "0.8", 0.2, 2, "s", "gait cycle: one step of each leg"),
+  number("gait.double_support", "0.2", 0, 0.8, "", "fraction of the cycle with both feet on the ground"),
+  number("gait.swing_apex", "0.08", 0.01, 0.3, "m", "swing-foot clearance at mid-swing, above the terrain"),
+  number("gait.foothold_gain", "0.15", 0, 1, "", "k of the foothold rule hip + T/2 v_des + k (v - v_des)"),
+  number("gait.step_width", "0.2", 0.05, 0.6, "m", "lateral distance between the feet"),
+  number("gait.toe_off_lead", "0", 0, 0.5, "s", "toe-off and heel-strike: a heel lifts and lands this much before its toe (0: together)"),
+
+  // ---- planner: the kino-dynamic MPC (daemon/mpc)
+  number("planner.rate", "100", 10, 1000, "Hz", "planner rate, controller time").needsRestart(),
+  number("planner.horizon", "1", 0.1, 5, "s", "MPC horizon"),
+  number("planner.dt", "0.02", 0.002, 0.2, "s", "MPC node spacing"),
+  integer("planner.sqp_iterations", "1", 1, 20, "", "SQP iterations per call (1: real-time iteration)"),
+  numbers("planner.q_momentum", "[15, 15, 30, 10, 10, 10]", 0, 1e6, "", "Q: centroidal momentum, [linear x y z, angular x y z]").ofLength(6),
+  numbers("planner.q_base", "[500, 500, 500, 100, 200, 200]", 0, 1e6, "", "Q: base pose, [x y z, yaw pitch roll]").ofLength(6),
+  numberMap("planner.q_joints", "{}", 0, 1e6, "", "Q: joint positions, per joint group"),
+  number("planner.r_forces", "0.001", 0, 1e6, "", "R: contact forces"),
+  numberMap("planner.r_joint_velocities", "{}", 0, 1e6, "", "R: joint velocities, per joint group"),
+  number("planner.barrier_mu", "0.1", 1e-6, 1e3, "", "relaxed log barrier weight (paper: xi)"),
+  number("planner.barrier_delta", "0.005", 1e-6, 1, "", "relaxed log barrier threshold (paper: delta)"),
+  number("planner.friction_coefficient", "0.6", 0.05, 2, "", "friction cone coefficient"),
+  number("planner.min_normal_force", "0", 0, 1e4, "N", "lower bound of a stance contact's normal force"),
+  number("planner.max_normal_force", "1000", 1, 1e5, "N", "upper bound of a contact's normal force"),
+  number("planner.min_foot_distance", "0.12", 0, 1, "m", "closest the feet may come (collision constraint)"),
+
+  // ---- wbc: the whole-body controller (daemon/wbc; wbc/settings.hpp)
+  choice("wbc.variant", "hierarchical", "hierarchical|weighted", "strict priorities (the paper's cH) or one weighted QP (cNH)"),
+  text("wbc.base_frame", "pelvis", "URDF link whose pose and twist the base task tracks; on the floating base"),
+  strings("wbc.joint_space_joints", "[arms]", "joints tracked in joint space at priority 2 (the legs follow their feet): URDF joints or joint group names"),
+  number("wbc.swing_kp", "400", 0, 1e5, "1/s^2", "priority 2: swing contact point tracking stiffness (world frame)"),
+  number("wbc.swing_kd", "40", 0, 1e4, "1/s", "priority 2: swing contact point tracking damping"),
+  number("wbc.joint_kp", "400", 0, 1e5, "1/s^2", "priority 2: joint-space tracking stiffness"),
+  number("wbc.joint_kd", "40", 0, 1e4, "1/s", "priority 2: joint-space tracking damping"),
+  numbers("wbc.base_kp", "[400, 400, 400, 400, 400, 400]", 0, 1e5, "1/s^2", "priority 3: base tracking stiffness, [x y z position; x y z orientation] (world)").ofLength(6),
+  numbers("wbc.base_kd", "[40, 40, 40, 40, 40, 40]", 0, 1e4, "1/s", "priority 3: base tracking damping, [x y z linear; x y z angular] (world)").ofLength(6),
+  number("wbc.friction_coefficient", "0.6", 0.01, 10, "", "priority 1: friction pyramid coefficient"),
+  number("wbc.torque_limit_scale", "1", 0.1, 1, "", "priority 1: fraction of the URDF effort limits the controller may command"),
+  number("wbc.limb_weight", "100", 0, 1e9, "", "weighted variant: weight of the limb tasks"),
+  number("wbc.base_weight", "10", 0, 1e9, "", "weighted variant: weight of the base task"),
+  number("wbc.contact_force_weight", "0.001", 0, 1e9, "", "weighted variant: weight of the contact-force task"),
+  number("wbc.regularization", "1e-8", 1e-15, 0.01, "", "added to the diagonal of every level's Hessian (scaled units)"),
+  integer("wbc.max_qp_iterations", "200", 1, 100000, "", "active-set iterations per QP before it gives up"),
+
+  // ---- estimator (daemon/estimation)
+  choice("estimator.source", "estimate", "estimate|truth", "what the controllers run on: the estimate, or the simulator's ground truth (diagnostics)").needsRestart(),
+  number("estimator.contact_height", "0.02", 0.001, 0.2, "m", "contact points within this height of the lowest one count as in contact"),
+  number("estimator.imu_acceleration_noise", "0.1", 0, 100, "m/s^2", "IMU accelerometer noise (standard deviation)"),
+  number("estimator.imu_gyro_noise", "0.01", 0, 10, "rad/s", "IMU gyroscope noise (standard deviation)"),
+  number("estimator.kinematics_position_noise", "0.005", 0, 1, "m", "leg kinematics: contact position noise"),
+  number("estimator.kinematics_velocity_noise", "0.05", 0, 10, "m/s", "leg kinematics: contact velocity noise"),
+  number("estimator.swing_noise_scale", "1000", 1, 1e9, "", "noise multiplier for contact points in swing"),
+  number("estimator.contact_force_threshold", "30", 0, 1e4, "N", "estimated normal force that confirms a scheduled contact"),
+
+  // ---- terrain
+  path("terrain.map", "", "OctoMap file (.bt or .ot) of the terrain for the planner; the simulation builds its world from it at start (a profile switch changes the planner's map only); empty: a flat floor"),
+  number("terrain.ground_height", "0", -100, 100, "m", "height of the floor under the robot at start"),
+
+  // ---- safety
+  number("safety.max_tilt", "0.8", 0.05, 3.14, "rad", "fall: the base tilts beyond this"),
+  number("safety.min_base_height", "0.45", 0, 5, "m", "fall: the base is lower than this above terrain.ground_height"),
+  flag("safety.fall_on_non_foot_contact", "true", "fall: a body other than the feet touches the ground (simulation ground truth)"),
+  number("safety.damping", "4", 0, 500, "N·m·s/rad", "joint damping in damp mode"),
+  number("safety.command_ttl", "10", 0.01, 3600, "s", "a walk command without a ttl lasts this long (controller time)"),
+  number("safety.max_command_ttl", "600", 0.01, 86400, "s", "longest ttl a walk command may ask for"),
+  number("safety.max_vx", "1.5", 0, 5, "m/s", "largest forward/backward velocity command"),
+  number("safety.max_vy", "0.5", 0, 5, "m/s", "largest sideways velocity command"),
+  number("safety.max_yaw_rate", "1", 0, 10, "rad/s", "largest turning rate command"),
+  number("safety.min_pose_height", "0.7", 0, 5, "m", "lowest standing height `pose` may ask for"),
+  number("safety.max_pose_height", "0.95", 0, 5, "m", "highest standing height `pose` may ask for"),
+  number("safety.max_pose_tilt", "0.35", 0, 1.5, "rad", "largest standing roll or pitch `pose` may ask for"),
+  number("safety.max_pose_yaw", "0.35", 0, 1.5, "rad", "largest standing yaw `pose` may ask for"),
+  number("safety.max_push_force", "300", 0, 1e4, "N", "largest push (simulation)"),
+  number("safety.max_push_duration", "5", 0, 60, "s", "longest push (simulation)"),
+
+  // ---- telemetry
+  integer("telemetry.decimation", "1", 1, 1000, "", "record every Nth control tick"),
+  integer("telemetry.ring_frames", "4096", 64, 1048576, "", "frames buffered between the loop and the writer thread").needsRestart(),
+  path("telemetry.record_on_start", "", "record from the start into this file (empty: only on `ballast record start`)").needsRestart(),
+
+  // ---- server: socket, clients, lease
+  path("server.socket", "", "socket path; empty: $XDG_RUNTIME_DIR/ballast/ballastd.sock").needsRestart(),
+  integers("server.allowed_uids", "[]", 0, 4294967295.0, "uids allowed to connect besides the daemon's own"),
+  number("server.lease_timeout", "300", 0, 86400, "s", "a lease unused this long (wall time) lapses; 0: never"),
+  integer("server.max_message_bytes", "65536", 256, 16777216, "bytes", "longest request line"),
+  integer("server.max_clients", "32", 1, 1024, "", "most clients connected at once"),
+  number("server.max_watch_rate", "100", 1, 1000, "Hz", "fastest status stream `watch` may ask for"),
+  number("server.reply_timeout", "2", 0.1, 60, "s", "wall time a request waits for the control loop before a timeout error"),
+};
+// clang-format on
+
+}  // namespace
+
+const char* typeName(KeyType type) {
+  switch (type) {
+    case KeyType::kBool:
+      return "bool";
+    case KeyType::kInt:
+      return "integer";
+    case KeyType::kNumber:
+      return "number";
+    case KeyType::kString:
+      return "string";
+    case KeyType::kEnum:
+      return "choice";
+    case KeyType::kPath:
+      return "path";
+    case KeyType::kNumberList:
+      return "list of numbers";
+    case KeyType::kIntList:
+      return "list of integers";
+    case KeyType::kStringList:
+      return "list of strings";
+    case KeyType::kPathList:
+      return "list of paths";
+    case KeyType::kNumberMap:
+      return "map of numbers";
+    case KeyType::kGroupMap:
+      return "map of lists of names";
+    case KeyType::kSection:
+      return "section";
+  }
+  return "?";
+}
+
+const std::vector<Key>& schema() {
+  return kSchema;
+}
+
+const Key* findKey(const std::string& name) {
+  for (const Key& k : kSchema)
+    if (name == k.name) return &k;
+  return nullptr;
+}
+
+bool isSection(const std::string& name) {
+  const std::string prefix = name + ".";
+  for (const Key& k : kSchema)
+    if (std::string(k.name).rfind(prefix, 0) == 0) return true;
+  return false;
+}
+
+bool isBackendSection(const std::string& name) {
+  const std::string prefix = "backend.";
+  if (name.rfind(prefix, 0) != 0 || findKey(name)) return false;
+  const std::string rest = name.substr(prefix.size());
+  return !rest.empty() && rest.find('.') == std::string::npos;
+}
+
+std::string closestKey(const std::string& name) {
+  auto distance = [](const std::string& a, const std::string& b) {
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+      std::size_t diag = row[0];
+      row[0] = i;
+      for (std::size_t j = 1; j <= b.size(); ++j) {
+        const std::size_t up = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] != b[j - 1] ? 1u : 0u)});
+        diag = up;
+      }
+    }
+    return row[b.size()];
+  };
+  std::string best;
+  std::size_t bestDistance = 4;  // more edits than this is not a typo
+  for (const Key& k : kSchema) {
+    const std::size_t d = distance(name, k.name);
+    if (d < bestDistance) bestDistance = d, best = k.name;
+  }
+  return best;
+}
+
+namespace {
+
+std::string bounds(const Key& k) {
+  if (k.type == KeyType::kEnum) return std::string("one of ") + k.unit;
+  const bool numeric = k.type == KeyType::kInt || k.type == KeyType::kNumber ||
+                       k.type == KeyType::kNumberList || k.type == KeyType::kIntList ||
+                       k.type == KeyType::kNumberMap;
+  if (!numeric) return "";
+  std::ostringstream out;
+  out << "[" << k.min << ", " << k.max << "]";
+  if (k.unit && *k.unit) out << " " << k.unit;
+  if (std::string(k.unit) == "rad") out << " (or deg with a \"deg\" suffix)";
+  return out.str();
+}
+
+/// Escapes text for troff: backslashes and leading dots or quotes.
+std::string troff(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '\\')
+      out += "\\e";
+    else if (c == '-')
+      out += "\\-";
+    else
+      out += c;
+  }
+  if (!out.empty() && (out[0] == '.' || out[0] == '\'')) out = "\\&" + out;
+  return out;
+}
+
+}  // namespace
+
+std::string schemaManPage() {
+  std::ostringstream m;
+  m << R"(.\" Generated by `ballastd --dump-schema=man` from daemon/profile/schema.cpp: edit the
+.\" schema, then regenerate this file (a test compares them).
+.TH BALLAST-PROFILE 5 "" "ballast" "File formats"
+.SH NAME
+ballast-profile \- ballastd profiles: robot, backend, gait, planner, controller, estimator, safety
+.SH SYNOPSIS
+.B ballastd \-\-profile
+.I FILE.yaml
+.SH DESCRIPTION
+A profile is a YAML map of sections. Every key is declared in one schema (listed below with
+its type, default, bounds and meaning). A key that is not in the schema, a value of the wrong
+type and a value out of bounds are errors reported as
+.IP
+.I file:line:column: key: what is wrong
+.PP
+and
+.BR ballastd (8)
+refuses to start; at run time
+.RB ( "ballast profile use" ,
+SIGHUP) the running profile stays in force.
+.PP
+.B extends:
+names a base profile, a file relative to this one or a profile name looked up beside it and
+in the profile directories. The base is loaded first, then this file on top of it: maps merge
+key by key, scalars and lists replace. Paths are relative to the file that sets them. Angles
+(unit rad) also take degrees with a
+.B deg
+suffix, e.g.
+.BR "left_knee: 35deg" .
+.PP
+The backend's own keys live in a map named after the backend,
+.BR backend.simbody ,
+.BR backend.socketcan ;
+ballastd passes that map, as YAML text with its file and line, to the plugin, which checks
+it. A backend section other than the one of
+.B backend.name
+is an error in the file that names the backend, and ignored when inherited.
+.PP
+Keys marked
+.I restart
+cannot change on a running daemon: a profile switch that changes one is refused.
+.SH KEYS
+)";
+  std::string section;
+  for (const Key& k : kSchema) {
+    const std::string name = k.name;
+    const auto dot = name.find('.');
+    const std::string sec = dot == std::string::npos ? "" : name.substr(0, dot);
+    if (sec != section || (sec.empty() && &k == &kSchema.front())) {
+      section = sec;
+      m << ".SS " << (section.empty() ? "top level" : section) << "\n";
+    }
+    m << ".TP\n.B " << troff(name) << "\n";
+    m << "(" << typeName(k.type);
+    if (k.length) m << ", " << k.length << " elements";
+    const std::string b = bounds(k);
+    if (!b.empty()) m << ", " << troff(b);
+    m << "; default: " << troff(*k.fallback ? k.fallback : "\"\"");
+    if (k.restart) m << "; restart";
+    m << ")\n" << troff(k.doc) << "\n";
+  }
+  m << ".TP\n.B backend.<name>\n(section; restart)\nthe backend's own keys; see the backend's "
+       "documentation\n";
+  m << R"(.SH FILES
+.TP
+.I profiles/sim\-flat.yaml
+the default: Simbody simulation, flat floor
+.TP
+.I profiles/sim\-stage.yaml, profiles/sim\-rough.yaml
+simulation with a stage to step onto, and on rough ground
+.TP
+.I profiles/hardware\-example.yaml
+a SocketCAN robot: a template to adapt
+.PP
+Installed profiles are in
+.IR <prefix>/share/ballast/profiles .
+.SH EXAMPLE
+.nf
+extends: sim\-flat
+description: softer arms
+control:
+  joint_kp: {arms: 60}
+robot:
+  nominal_posture: {left_elbow: \-20deg, right_elbow: \-20deg}
+.fi
+.SH SEE ALSO
+.BR ballastd (8),
+.BR ballast (1)
+)";
+  return m.str();
+}
+
+std::string schemaYaml() {
+  std::ostringstream y;
+  y << "# Every profile key with its default (ballastd --dump-schema=yaml).\n";
+  std::string section;
+  for (const Key& k : kSchema) {
+    const std::string name = k.name;
+    const auto dot = name.find('.');
+    const std::string sec = dot == std::string::npos ? "" : name.substr(0, dot);
+    const std::string leaf = dot == std::string::npos ? name : name.substr(dot + 1);
+    if (sec != section) {
+      section = sec;
+      if (!sec.empty()) y << "\n" << section << ":\n";
+    }
+    const std::string indent = sec.empty() ? "" : "  ";
+    y << indent << "# " << k.doc;
+    const std::string b = bounds(k);
+    if (!b.empty()) y << " " << b;
+    if (k.restart) y << " (restart)";
+    y << "\n" << indent << leaf << ": " << (*k.fallback ? k.fallback : "\"\"") << "\n";
+  }
+  return y.str();
+}
+
+}  // namespace ballast::profile

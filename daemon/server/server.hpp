@@ -1,0 +1,143 @@
+// The IO side of ballastd: the Unix socket, its clients, the command lease, signals.
+//
+// One thread (ballastd's main thread) runs Server::run(): a poll() loop over the listening
+// socket, the clients, a signalfd (SIGTERM/SIGINT: stop; SIGHUP: reload the profile) and the
+// control loop's eventfd (replies and log events waiting). Requests are validated against the
+// protocol table (protocol.hpp); commands for the robot go to the loop through its command ring
+// and are answered when the loop has handled them (or with `timeout` after
+// server.reply_timeout). Nothing here can hold the loop up: the loop only ever pushes into rings
+// and publishes its status through a seqlock.
+//
+// Security: the socket file is created mode 0660 in a directory ballastd creates 0750 if
+// missing; each connecting peer's uid (SO_PEERCRED) must be ballastd's own or listed in
+// server.allowed_uids. Motion commands need the command lease (one holder at a time, a random
+// token); `estop` never does.
+#pragma once
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "control/control_loop.hpp"
+#include "control/telemetry.hpp"
+#include "profile/profile.hpp"
+#include "server/status_json.hpp"
+#include "server/terrain_map.hpp"
+
+namespace ballast::server {
+
+struct ServerConfig {
+  std::string socket_path;
+  std::vector<uid_t> allowed_uids;
+  double lease_timeout = 300.0;  ///< s of wall time; 0: never
+  std::size_t max_message_bytes = 65536;
+  int max_clients = 32;
+  double max_watch_rate = 100.0;
+  double reply_timeout = 2.0;
+};
+
+/// The server's settings from a profile; socket_override (from --socket) wins if not empty.
+ServerConfig serverConfig(const profile::Profile& profile, const std::string& socket_override);
+
+/// What the server reaches into. Owned by ballastd's main().
+struct DaemonContext {
+  const model::Model* model = nullptr;
+  control::ControlLoop* loop = nullptr;
+  control::TelemetryWriter* writer = nullptr;
+  std::unique_ptr<profile::Profile> profile;           ///< the running profile
+  const control::ControlSettings* settings = nullptr;  ///< the loop's; freed when retired
+  std::vector<std::string> profile_dirs;
+  std::string backend_name;
+  bool simulation = false;
+  TerrainMap map;
+};
+
+class Server {
+ public:
+  Server(DaemonContext& context, ServerConfig config);
+  ~Server();
+  Server(const Server&) = delete;
+  Server& operator=(const Server&) = delete;
+
+  /// Creates the socket (and its directory). Throws std::runtime_error saying what is wrong:
+  /// another ballastd answers on the path, the directory cannot be made, bind fails.
+  void open();
+  /// Serves until SIGTERM/SIGINT (signals must be blocked in every thread beforehand).
+  void run();
+  /// Closes every connection and removes the socket file.
+  void close();
+
+  const ServerConfig& config() const { return config_; }
+
+ private:
+  struct Client {
+    int fd = -1;
+    uid_t uid = 0;
+    pid_t pid = 0;
+    std::string name;  // from the "client" field
+    std::string in, out;
+    bool discarding = false;  // skipping the rest of an overlong line
+    double watch_rate = 0.0;
+    bool watch_joints = false;
+    std::chrono::steady_clock::time_point next_watch;
+  };
+  struct Pending {
+    int client = -1;
+    nlohmann::json id;
+    std::string cmd;
+    std::chrono::steady_clock::time_point deadline;
+    bool answered = false;
+    std::unique_ptr<profile::Profile> profile;  // profile_use: the profile being switched to
+    const control::ControlSettings* settings = nullptr;  // ... and its settings (ours until taken)
+    std::unique_ptr<TerrainMap> map;  // ... and its terrain map, when it names another one
+  };
+  struct Lease {
+    std::string token;
+    uid_t uid = 0;
+    pid_t pid = 0;
+    std::string client;
+    std::chrono::steady_clock::time_point since, last_used;
+  };
+
+  void accept();
+  void readFrom(Client& c);
+  void handleLine(Client& c, const std::string& line);
+  void dispatch(Client& c, const nlohmann::json& id, const std::string& cmd,
+                const nlohmann::json& request);
+  bool checkLease(Client& c, const nlohmann::json& id, const nlohmann::json& request);
+  void submit(Client& c, const nlohmann::json& id, const std::string& cmd,
+              control::OperatorCommand command, std::unique_ptr<profile::Profile> next = nullptr,
+              std::unique_ptr<TerrainMap> map = nullptr);
+  void switchProfile(Client* c, const nlohmann::json& id, const std::string& name);
+  void onLoopReplies();
+  void onSignal();
+  void sendWatches();
+  void expirePending();
+  void reply(int client, const nlohmann::json& id, nlohmann::json body);
+  void fail(int client, const nlohmann::json& id, const char* code, const std::string& message);
+  void send(Client& c, const std::string& text);
+  void flush(Client& c);
+  void drop(int fd);
+  nlohmann::json status(bool joints);
+  nlohmann::json leaseJson() const;
+  bool leaseExpired() const;
+  nlohmann::json profileList();
+
+  DaemonContext& ctx_;
+  ServerConfig config_;
+  int listen_fd_ = -1, signal_fd_ = -1;
+  bool stop_ = false;
+  std::map<int, Client> clients_;
+  std::map<std::uint64_t, Pending> pending_;
+  std::uint64_t sequence_ = 0;
+  std::unique_ptr<Lease> lease_;
+  StatusExtras extras_;
+};
+
+}  // namespace ballast::server

@@ -1,0 +1,81 @@
+#include "server/status_json.hpp"
+
+#include <algorithm>
+
+namespace ballast::server {
+
+namespace {
+using nlohmann::json;
+
+json vec3(const double* v) {
+  return json::array({v[0], v[1], v[2]});
+}
+
+json base(const control::BaseState& b) {
+  return {{"position", vec3(b.position)},
+          {"velocity", vec3(b.linear_velocity)},
+          {"rpy", vec3(b.rpy)},
+          {"angular_velocity", vec3(b.angular_velocity)},
+          {"orientation",
+           json::array({b.orientation[0], b.orientation[1], b.orientation[2], b.orientation[3]})}};
+}
+}  // namespace
+
+json statusJson(const control::LoopStatus& s, const StatusExtras& x, bool joints) {
+  json j;
+  j["mode"] = control::modeName(s.mode);
+  j["t"] = s.t;
+  j["profile"] = x.profile;
+  j["profile_path"] = x.profile_path;
+  j["backend"] = x.backend;
+  j["simulation"] = x.simulation;
+  j["lockstep"] = s.lockstep;
+  j["fallen"] = s.fallen;
+  j["estop"] = s.estop;
+  j["stand_up_progress"] = s.stand_up_progress;
+  j["planner"] = s.planner_available ? "running" : "not built";
+  j["base"] = base(s.base);
+  const control::BaseCommand& c = s.command;
+  j["command"] = {{"vx", c.vx},
+                  {"vy", c.vy},
+                  {"yaw_rate", c.yaw_rate},
+                  {"ttl", c.velocity_active ? std::max(0.0, c.expires_at - s.t) : 0.0},
+                  {"active", c.velocity_active},
+                  {"height", c.height},
+                  {"roll", c.roll},
+                  {"pitch", c.pitch},
+                  {"yaw", c.yaw}};
+  j["contacts"] = json::array();
+  for (bool b : s.contacts) j["contacts"].push_back(b);
+  j["contact_frames"] = x.contact_frames;
+  j["timing"] = {{"mpc_ms", s.mpc_ms},
+                 {"wbc_ms", s.wbc_ms},
+                 {"wbc_ms_max", s.wbc_ms_max},
+                 {"tick_overruns", s.tick_overruns},
+                 {"ticks", s.ticks}};
+  j["faults"] = json::array();
+  for (int i = 0; i < s.faults.size; ++i) {
+    const control::Fault& f = s.faults.fault[i];
+    j["faults"].push_back({{"kind", control::faultName(f.kind)},
+                           {"t", f.t},
+                           {"count", f.count},
+                           {"message", f.message}});
+  }
+  if (s.has_truth)
+    j["truth"] = {{"base", base(s.truth)}, {"non_foot_contact", s.truth_non_foot_contact}};
+  j["lease"] = x.lease;
+  j["recording"] = x.recording;
+  j["map"] = x.map;
+  if (joints) {
+    json names = json::array(), q = json::array(), tau = json::array();
+    for (int k = 0; k < s.num_joints; ++k) {
+      names.push_back(k < static_cast<int>(x.joint_names.size()) ? x.joint_names[k] : "");
+      q.push_back(s.q[k]);
+      tau.push_back(s.tau[k]);
+    }
+    j["joints"] = {{"names", names}, {"q", q}, {"tau_ff", tau}};
+  }
+  return j;
+}
+
+}  // namespace ballast::server

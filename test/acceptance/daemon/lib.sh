@@ -1,0 +1,74 @@
+# Helpers for the acceptance scripts: start ballastd in lockstep in a scratch directory, drive
+# it with ballast, wait on status fields (no sleeps where a status poll works), fail loudly.
+# Usage from a script:  . "$(dirname "$0")/lib.sh" BALLASTD BALLAST PROFILE
+set -eu
+
+BALLASTD=$1
+BALLAST_BIN=$2
+PROFILE=$3
+WORK=$(mktemp -d "${TMPDIR:-/tmp}/ballast-acceptance.XXXXXX")
+SOCKET=$WORK/ballastd.sock
+LOG=$WORK/ballastd.log
+export BALLAST_SOCKET=$SOCKET BALLAST_LEASE_FILE=$WORK/lease
+DAEMON_PID=
+
+fail() {
+  echo "FAIL: $*" >&2
+  echo "--- ballastd log ---" >&2
+  cat "$LOG" >&2 || true
+  [ -n "$DAEMON_PID" ] && kill -KILL "$DAEMON_PID" 2>/dev/null || true
+  exit 1
+}
+
+cleanup() {
+  [ -n "$DAEMON_PID" ] && kill -KILL "$DAEMON_PID" 2>/dev/null || true
+  rm -rf "$WORK"
+}
+trap cleanup EXIT
+
+ballast() { "$BALLAST_BIN" "$@"; }
+
+start_daemon() {
+  "$BALLASTD" --profile "$PROFILE" --lockstep --socket "$SOCKET" "$@" 2>"$LOG" &
+  DAEMON_PID=$!
+  i=0
+  until ballast status --get mode >/dev/null 2>&1; do
+    i=$((i + 1))
+    [ $i -lt 300 ] || fail "ballastd did not come up"
+    kill -0 "$DAEMON_PID" 2>/dev/null || fail "ballastd exited at start"
+    sleep 0.05
+  done
+}
+
+# wait_until DESCRIPTION SECONDS COMMAND...: runs COMMAND until it succeeds (polling status).
+wait_until() {
+  what=$1 limit=$2
+  shift 2
+  i=0
+  until "$@"; do
+    i=$((i + 1))
+    [ $i -lt $((limit * 20)) ] || fail "timed out waiting for $what"
+    sleep 0.05
+  done
+}
+
+field() { ballast status --get "$1"; }
+mode_is() { [ "$(field mode)" = "$1" ]; }
+# near FIELD VALUE TOLERANCE: |field - value| <= tolerance
+near() { awk -v a="$(field "$1")" -v b="$2" -v tol="$3" 'BEGIN { d = a - b; if (d < 0) d = -d; exit !(d <= tol) }'; }
+# time_after T0 D: the controller time is at least T0 + D
+time_after() { awk -v t="$(field t)" -v t0="$1" -v d="$2" 'BEGIN { exit !(t >= t0 + d) }'; }
+# sim_time_passes SECONDS: waits until the controller time has advanced that much
+sim_time_passes() { wait_until "$1 s of controller time" 60 time_after "$(field t)" "$1"; }
+
+healthy() {
+  [ "$(field timing.tick_overruns)" = 0 ] || fail "the loop overran"
+  [ "$(field fallen)" = false ] || fail "the robot fell"
+}
+
+stop_daemon() {
+  kill -TERM "$DAEMON_PID"
+  wait "$DAEMON_PID" || fail "ballastd exited $? after SIGTERM"
+  DAEMON_PID=
+  [ ! -e "$SOCKET" ] || fail "the socket was left behind"
+}

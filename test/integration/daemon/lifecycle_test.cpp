@@ -1,0 +1,158 @@
+// Starting and stopping ballastd: profile errors refuse the start with file:line:column,
+// another daemon on the socket is refused, SIGTERM and SIGINT stop it cleanly (exit 0, no
+// socket, telemetry flushed), SIGHUP reloads a valid profile and keeps the running one
+// otherwise.
+#include <set>
+
+#include "test/integration/daemon/daemon_harness.hpp"
+
+namespace ballast::test {
+namespace {
+
+TEST(Lifecycle, ProfileErrorNamesLineAndColumnAndRefusesToStart) {
+  const fs::path dir = scratchDir();
+  const std::string bad =
+      writeFile(dir / "bad.yaml", "extends: " + std::string(FAKE_PROFILE) +
+                                      "\ncontrol:\n  rate: fast\ngait:\n  perod: 1\n");
+  Daemon d(dir, bad);
+  EXPECT_FALSE(d.running());
+  EXPECT_EQ(d.exitStatus(), 1);
+  const std::string log = d.log();
+  EXPECT_NE(log.find(bad + ":3:9: control.rate: expected a number, got 'fast'"), std::string::npos)
+      << log;
+  EXPECT_NE(log.find(bad + ":5:3: gait.perod: unknown key (did you mean gait.period?)"),
+            std::string::npos)
+      << log;
+  EXPECT_FALSE(fs::exists(d.socket()));
+  fs::remove_all(dir);
+}
+
+TEST(Lifecycle, BackendSectionErrorPointsIntoTheProfile) {
+  const fs::path dir = scratchDir();
+  const std::string bad =
+      writeFile(dir / "bad.yaml", "extends: " + std::string(FAKE_PROFILE) +
+                                      "\nbackend:\n  fake:\n    base_heigth: 1\n");
+  Daemon d(dir, bad);
+  EXPECT_FALSE(d.running());
+  EXPECT_EQ(d.exitStatus(), 1);
+  EXPECT_NE(d.log().find(bad + ":4:5: base_heigth: unknown key"), std::string::npos) << d.log();
+  fs::remove_all(dir);
+}
+
+TEST(Lifecycle, MissingPluginAndBadUrdfAreNamed) {
+  const fs::path dir = scratchDir();
+  const std::string nop = writeFile(
+      dir / "nop.yaml", "extends: " + std::string(FAKE_PROFILE) + "\nbackend:\n  name: nosuch\n");
+  Daemon d(dir, nop);
+  EXPECT_EQ(d.exitStatus(), 1);
+  EXPECT_NE(
+      d.log().find(nop + ":3:9: backend.name: backend 'nosuch': no libballast_backend_nosuch.so"),
+      std::string::npos)
+      << d.log();
+  const std::string urdf = writeFile(
+      dir / "u.yaml", "extends: " + std::string(FAKE_PROFILE) + "\nrobot:\n  urdf: missing.urdf\n");
+  Daemon e(dir, urdf);
+  EXPECT_EQ(e.exitStatus(), 1);
+  EXPECT_NE(e.log().find(urdf + ":3:9: robot.urdf:"), std::string::npos) << e.log();
+  fs::remove_all(dir);
+}
+
+TEST(Lifecycle, SecondDaemonOnTheSameSocketIsRefused) {
+  const fs::path dir = scratchDir();
+  Daemon first(dir, FAKE_PROFILE);
+  ASSERT_TRUE(first.running()) << first.log();
+  const fs::path other = dir / "second";
+  fs::create_directories(other);
+  Daemon second(other, FAKE_PROFILE, {"--socket", first.socket()});
+  EXPECT_EQ(second.waitExit(10), 1);
+  EXPECT_NE(second.log().find("another ballastd is already listening"), std::string::npos)
+      << second.log();
+  EXPECT_TRUE(first.status().is_object());  // the first one is unharmed
+  EXPECT_EQ(first.stop(), 0);
+  fs::remove_all(dir);
+}
+
+TEST(Lifecycle, SigtermAndSigintStopCleanly) {
+  for (int sig : {SIGTERM, SIGINT}) {
+    const fs::path dir = scratchDir();
+    Daemon d(dir, FAKE_PROFILE);
+    ASSERT_TRUE(d.running()) << d.log();
+    const std::string file = (dir / "t.tsv").string();
+    ASSERT_EQ(d.cli({"record", "start", file}).status, 0);
+    ASSERT_EQ(d.cli({"stand"}).status, 0);
+    ASSERT_TRUE(d.waitForMode("stand"));
+    EXPECT_EQ(d.stop(sig), 0) << d.log();
+    EXPECT_FALSE(fs::exists(d.socket())) << strsignal(sig);
+    // Telemetry flushed: whole lines up to the end, stand-up (1) and stand (2) in the mode column.
+    const std::string text = readFile(file);
+    ASSERT_FALSE(text.empty());
+    EXPECT_EQ(text.back(), '\n');
+    std::set<std::string> modes;
+    std::istringstream lines(text);
+    for (std::string line; std::getline(lines, line);) {
+      if (line[0] == '#') continue;
+      const auto a = line.find('\t');
+      modes.insert(line.substr(a + 1, line.find('\t', a + 1) - a - 1));
+    }
+    EXPECT_TRUE(modes.count("1") && modes.count("2")) << testing::PrintToString(modes);
+    EXPECT_NE(d.log().find("stopped at t="), std::string::npos);
+    fs::remove_all(dir);
+  }
+}
+
+TEST(Lifecycle, SighupReloadsAValidProfileAndKeepsTheOldOneOtherwise) {
+  const fs::path dir = scratchDir();
+  const std::string path = (dir / "p.yaml").string();
+  const std::string base = "extends: " + std::string(FAKE_PROFILE) + "\n";
+  writeFile(path, base + "safety:\n  max_pose_height: 0.93\n");
+  Daemon d(dir, path);
+  ASSERT_TRUE(d.running()) << d.log();
+  ASSERT_EQ(d.cli({"stand"}).status, 0);
+  ASSERT_TRUE(d.waitForMode("stand"));
+  ASSERT_EQ(d.cli({"pose", "--height", "0.92"}).status, 0);
+  // Lower the limit: after SIGHUP the same request is refused.
+  writeFile(path, base + "safety:\n  max_pose_height: 0.9\n");
+  d.signal(SIGHUP);
+  ASSERT_TRUE(d.waitFor(
+      [&](const json&) {
+        return d.cli({"pose", "--height", "0.92"}).status == 1;
+      },
+      10))
+      << d.log();
+  // A broken file: refused with its line and column, the reloaded profile stays in force.
+  writeFile(path, base + "safety:\n  max_pose_height: high\n");
+  d.signal(SIGHUP);
+  ASSERT_TRUE(d.waitFor(
+      [&](const json&) {
+        return d.log().find(path + ":3:20: safety.max_pose_height: expected a number") !=
+               std::string::npos;
+      },
+      10))
+      << d.log();
+  EXPECT_EQ(d.cli({"pose", "--height", "0.92"}).status, 1);
+  EXPECT_EQ(d.cli({"pose", "--height", "0.88"}).status, 0);
+  EXPECT_EQ(d.stop(), 0);
+  fs::remove_all(dir);
+}
+
+TEST(Lifecycle, RealTimeModeKeepsPace) {
+  // Without --lockstep the fake backend paces the loop to the wall clock at 1 kHz.
+  const fs::path dir = scratchDir();
+  Daemon d(dir, FAKE_PROFILE, {}, /*lockstep=*/false);
+  ASSERT_TRUE(d.running()) << d.log();
+  const json a = d.status();
+  const auto wall0 = std::chrono::steady_clock::now();
+  ASSERT_TRUE(d.waitFor(
+      [&](const json& s) { return s["t"].get<double>() > a["t"].get<double>() + 0.3; }, 10));
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+  const json b = d.status();
+  EXPECT_EQ(b["lockstep"], false);
+  // Simulated time runs at the wall clock's pace (not hundreds of times faster as in lockstep).
+  EXPECT_LT(b["t"].get<double>() - a["t"].get<double>(), 3.0 * wall + 0.2);
+  EXPECT_EQ(d.stop(), 0);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace ballast::test

@@ -1,0 +1,320 @@
+// Every verb of the ballast CLI against ballastd in lockstep on the simulation backend (the
+// Simbody plugin when it is built, else the fake): exit status, output, and the daemon's
+// state after it. Each test leaves the daemon healthy: status answers, no tick overran, and
+// SIGTERM stops it with status 0 and no socket left.
+#include <octomap/OcTree.h>
+
+#include "test/integration/daemon/daemon_harness.hpp"
+
+namespace ballast::test {
+namespace {
+
+class Verbs : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = scratchDir();
+    daemon_ = std::make_unique<Daemon>(dir_, SIM_PROFILE);
+    ASSERT_TRUE(daemon_->running()) << daemon_->log();
+    ASSERT_TRUE(daemon_->waitForMode("stand")) << daemon_->log();
+  }
+  void TearDown() override {
+    if (!daemon_ || !daemon_->running()) return;
+    const json s = daemon_->status();
+    ASSERT_TRUE(s.is_object()) << "status no longer answers\n" << daemon_->log();
+    EXPECT_EQ(s["timing"]["tick_overruns"], 0);
+    EXPECT_EQ(daemon_->stop(), 0) << daemon_->log();
+    EXPECT_FALSE(fs::exists(daemon_->socket()));
+    fs::remove_all(dir_);
+  }
+  Outcome cli(const std::vector<std::string>& args, const std::string& client = "a") {
+    return daemon_->cli(args, client);
+  }
+  fs::path dir_;
+  std::unique_ptr<Daemon> daemon_;
+};
+
+TEST_F(Verbs, StatusJsonCarriesTheDesignFields) {
+  const Outcome r = cli({"status", "--json"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const json s = r.parsed();
+  EXPECT_EQ(s["mode"], "stand");
+  EXPECT_TRUE(s["t"].is_number());
+  EXPECT_EQ(s["profile"], fs::path(SIM_PROFILE).stem().string());
+  EXPECT_TRUE(s["backend"].is_string());
+  EXPECT_EQ(s["fallen"], false);
+  for (const char* k : {"position", "velocity", "rpy"}) {
+    ASSERT_TRUE(s["base"][k].is_array()) << k;
+    EXPECT_EQ(s["base"][k].size(), 3u) << k;
+  }
+  for (const char* k : {"vx", "vy", "yaw_rate", "ttl", "height", "roll", "pitch", "yaw"})
+    EXPECT_TRUE(s["command"][k].is_number()) << k;
+  ASSERT_EQ(s["contacts"].size(), 4u);
+  for (const auto& c : s["contacts"]) EXPECT_TRUE(c.is_boolean());
+  for (const char* k : {"mpc_ms", "wbc_ms", "tick_overruns"})
+    EXPECT_TRUE(s["timing"][k].is_number()) << k;
+  EXPECT_TRUE(s["faults"].is_array());
+  ASSERT_TRUE(s.contains("truth"));  // a simulation backend
+  EXPECT_EQ(s["truth"]["base"]["position"].size(), 3u);
+  // Standing: all four contact points down, near the nominal height.
+  for (const auto& c : s["contacts"]) EXPECT_TRUE(c.get<bool>());
+  EXPECT_NEAR(s["base"]["position"][2].get<double>(), 0.89, 0.03);
+}
+
+TEST_F(Verbs, StatusHumanGetAndWatch) {
+  Outcome r = cli({"status"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("mode       stand"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("contacts"), std::string::npos);
+  r = cli({"status", "--get", "mode"});
+  EXPECT_EQ(r.out, "stand\n");
+  r = cli({"status", "--get", "base.position"});
+  std::istringstream xyz(r.out);
+  double x, y, z;
+  EXPECT_TRUE(xyz >> x >> y >> z) << r.out;
+  r = cli({"status", "--get", "no.such.field"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("no field"), std::string::npos);
+  // --watch: a stream of status objects, one per line, simulated time moving on.
+  r = cli({"--json", "status", "--watch", "--rate", "50", "--count", "3"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::istringstream lines(r.out);
+  std::vector<double> times;
+  for (std::string line; std::getline(lines, line);)
+    times.push_back(json::parse(line)["t"].get<double>());
+  ASSERT_EQ(times.size(), 3u);
+  EXPECT_LT(times[0], times[2]);
+  r = cli({"status", "--watch", "--count", "1"});
+  EXPECT_EQ(r.status, 0);
+  EXPECT_NE(r.out.find("mode"), std::string::npos);
+}
+
+TEST_F(Verbs, StandStopAndWalkWithoutPlanner) {
+  Outcome r = cli({"stand"});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("mode stand"), std::string::npos);
+  r = cli({"stop"});
+  EXPECT_EQ(r.status, 0) << r.err;
+  r = cli({"walk", "--vx", "0.5", "--for", "2s"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("unavailable: walking needs the planner (not built yet)"), std::string::npos)
+      << r.err;
+  r = cli({"--json", "walk", "--vx", "0.5"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.parsed()["error"]["code"], "unavailable");
+  EXPECT_EQ(daemon_->status()["mode"], "stand");
+}
+
+TEST_F(Verbs, PoseMovesTheBaseWithinTheProfileLimits) {
+  Outcome r = cli({"pose", "--height", "0.82", "--pitch", "4deg"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(daemon_->waitFor([](const json& s) {
+    return std::abs(s["base"]["position"][2].get<double>() - 0.82) < 0.01 &&
+           std::abs(s["base"]["rpy"][1].get<double>() - 4 * M_PI / 180) < 0.02;
+  })) << daemon_->status().dump();
+  const json s = daemon_->status();
+  EXPECT_DOUBLE_EQ(s["command"]["height"].get<double>(), 0.82);
+  // Beyond safety.max_pose_height / max_pose_tilt: refused, the pose in force stays.
+  r = cli({"--json", "pose", "--height", "1.5"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.parsed()["error"]["code"], "out_of_range");
+  EXPECT_NE(r.parsed()["error"]["message"].get<std::string>().find("safety.min_pose_height"),
+            std::string::npos);
+  r = cli({"pose", "--roll", "60deg"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("safety.max_pose_tilt"), std::string::npos) << r.err;
+  EXPECT_DOUBLE_EQ(daemon_->status()["command"]["height"].get<double>(), 0.82);
+  r = cli({"pose"});  // back to nominal
+  EXPECT_EQ(r.status, 0);
+  EXPECT_NEAR(daemon_->status()["command"]["height"].get<double>(), 0.89, 0.01);
+}
+
+TEST_F(Verbs, EstopLatchesUntilResetThenStandAgain) {
+  Outcome r = cli({"estop"}, "someone-else");  // anyone may, without the lease
+  ASSERT_EQ(r.status, 0) << r.err;
+  json s = daemon_->status();
+  EXPECT_EQ(s["mode"], "damp");
+  EXPECT_EQ(s["estop"], true);
+  EXPECT_EQ(s["faults"][0]["kind"], "estop");
+  r = cli({"stand"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("run `ballast reset`"), std::string::npos) << r.err;
+  r = cli({"passive"});
+  EXPECT_EQ(r.status, 1);
+  r = cli({"reset"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  s = daemon_->status();
+  EXPECT_EQ(s["mode"], "passive");
+  EXPECT_EQ(s["estop"], false);
+  EXPECT_TRUE(s["faults"].empty());
+}
+
+TEST_F(Verbs, PassiveThenStandUp) {
+  // Passive lets go of the joints; standing up again straight away catches the robot.
+  Outcome r = cli({"passive"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(daemon_->status()["mode"], "passive");
+  r = cli({"stand"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(r.out.find("stand-up") != std::string::npos ||
+              r.out.find("mode stand") != std::string::npos)
+      << r.out;
+}
+
+TEST_F(Verbs, PushIsBoundedByTheProfile) {
+  Outcome r = cli({"push", "--force", "15,0,0", "--duration", "100ms"});
+  EXPECT_EQ(r.status, 0) << r.err;
+  r = cli({"--json", "push", "--force", "900,0,0", "--duration", "1"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.parsed()["error"]["code"], "out_of_range");
+  r = cli({"--json", "push", "--force", "10,0,0", "--duration", "0.1", "--body", "no_such_link"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.parsed()["error"]["code"], "backend_error") << r.out;
+}
+
+TEST_F(Verbs, RecordThenPlot) {
+  const std::string file = (dir_ / "run.tsv").string(), png = (dir_ / "run.png").string();
+  Outcome r = cli({"record", "start", file});
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = cli({"record", "start", file});
+  EXPECT_EQ(r.status, 1);  // one recording at a time
+  const double t0 = daemon_->status()["t"].get<double>();
+  ASSERT_TRUE(daemon_->waitFor([&](const json& s) { return s["t"].get<double>() > t0 + 0.3; }));
+  EXPECT_EQ(daemon_->status()["recording"]["active"], true);
+  r = cli({"--json", "record", "stop"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const long frames = r.parsed()["frames"].get<long>();
+  EXPECT_GT(frames, 300);
+  // One line per control tick, every column filled.
+  const std::string text = readFile(file);
+  EXPECT_EQ(text.rfind("# ballast telemetry 1\n# t\tmode\t", 0), 0u);
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), frames + 2);
+  r = cli({"plot", file, "-o", png});
+  ASSERT_EQ(r.status, 0) << r.err << r.out;
+  const std::string image = readFile(png);
+  ASSERT_GT(image.size(), 1000u);
+  EXPECT_EQ(image.substr(1, 3), "PNG");
+  r = cli({"record", "stop"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("not recording"), std::string::npos);
+  r = cli({"plot", (dir_ / "missing.tsv").string(), "-o", png});
+  EXPECT_EQ(r.status, 1);
+}
+
+TEST_F(Verbs, ProfileListShowUse) {
+  Outcome r = cli({"profile", "list"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* p : {"sim-flat", "sim-stage", "sim-rough", "hardware-example"})
+    EXPECT_NE(r.out.find(p), std::string::npos) << p;
+  r = cli({"profile", "show"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("rate: 1000"), std::string::npos);
+  // A variant with other gains and limits switches in; the robot keeps standing.
+  const std::string soft = writeFile(
+      dir_ / "soft.yaml",
+      "extends: " + std::string(SIM_PROFILE) +
+          "\ncontrol:\n  joint_kp: {legs: 280, arms: 60}\nsafety:\n  max_pose_height: 0.9\n");
+  r = cli({"profile", "use", soft});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("profile soft in force"), std::string::npos) << r.out;
+  EXPECT_EQ(daemon_->status()["profile"], "soft");
+  const double t0 = daemon_->status()["t"].get<double>();
+  ASSERT_TRUE(daemon_->waitFor([&](const json& s) { return s["t"].get<double>() > t0 + 1.0; }));
+  EXPECT_EQ(daemon_->status()["mode"], "stand");
+  EXPECT_EQ(daemon_->status()["fallen"], false);
+  r = cli({"pose", "--height", "0.92"});  // the new profile's limit is in force
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("0.900"), std::string::npos) << r.err;
+  r = cli({"profile", "show", "sim-stage"});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("lab-stage.bt"), std::string::npos);
+  // Terrain profiles switch at run time too: the planner's map follows (the simulated world is
+  // the world: it stays).
+  r = cli({"profile", "use", "sim-stage"});
+  if (daemon_->status()["backend"] == "simbody") {
+    ASSERT_EQ(r.status, 0) << r.err;
+    const json s = daemon_->status();
+    EXPECT_EQ(s["profile"], "sim-stage");
+    EXPECT_NE(s["map"]["path"].get<std::string>().find("maps/lab-stage.bt"), std::string::npos);
+  } else {
+    EXPECT_EQ(r.status, 1);
+    EXPECT_NE(r.err.find("backend.name"), std::string::npos) << r.err;
+  }
+}
+
+TEST_F(Verbs, InvalidProfileSwitchKeepsTheRunningOne) {
+  const std::string bad = writeFile(dir_ / "bad.yaml", "extends: " + std::string(SIM_PROFILE) +
+                                                           "\ncontrol:\n  stand_up_duration: -1\n");
+  Outcome r = cli({"--json", "profile", "use", bad});
+  EXPECT_EQ(r.status, 1);
+  const json e = r.parsed()["error"];
+  EXPECT_EQ(e["code"], "invalid_profile");
+  EXPECT_NE(e["message"].get<std::string>().find(
+                bad + ":3:22: control.stand_up_duration: -1 is out of range"),
+            std::string::npos)
+      << e;
+  EXPECT_EQ(daemon_->status()["profile"], fs::path(SIM_PROFILE).stem().string());
+  // A profile that changes a restart key is refused as well, naming the key.
+  const std::string rate = writeFile(
+      dir_ / "rate.yaml", "extends: " + std::string(SIM_PROFILE) + "\ncontrol:\n  rate: 500\n");
+  r = cli({"profile", "use", rate});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("control.rate"), std::string::npos) << r.err;
+  r = cli({"--json", "profile", "use", "no-such-profile"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.parsed()["error"]["code"], "not_found");
+  EXPECT_EQ(daemon_->status()["profile"], fs::path(SIM_PROFILE).stem().string());
+}
+
+TEST_F(Verbs, MapLoadAndInfo) {
+  Outcome r = cli({"map", "info"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("flat floor"), std::string::npos);
+  octomap::OcTree tree(0.05);
+  for (double x = 0; x < 1; x += 0.05)
+    for (double y = 0; y < 1; y += 0.05) tree.updateNode(octomap::point3d(x, y, 0.1), true);
+  const std::string map = (dir_ / "stage.bt").string();
+  ASSERT_TRUE(tree.writeBinaryConst(map));
+  r = cli({"--json", "map", "load", map});
+  ASSERT_EQ(r.status, 0) << r.err << r.out;
+  EXPECT_DOUBLE_EQ(r.parsed()["map"]["resolution"].get<double>(), 0.05);
+  r = cli({"map", "info"});
+  EXPECT_NE(r.out.find(map), std::string::npos);
+  const std::string junk = writeFile(dir_ / "junk.bt", "not an octomap\n");
+  r = cli({"--json", "map", "load", junk});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.parsed()["error"]["message"].get<std::string>().find("the map in use stays"),
+            std::string::npos);
+  r = cli({"--json", "map", "load", (dir_ / "none.bt").string()});
+  EXPECT_EQ(r.parsed()["error"]["code"], "not_found");
+  EXPECT_EQ(daemon_->status()["map"]["path"], map);
+}
+
+TEST_F(Verbs, LeaseAcquireTakeReturn) {
+  // Client a holds the lease (acquired by its first motion command).
+  ASSERT_EQ(cli({"stop"}, "a").status, 0);
+  // Client b may read, not move the robot.
+  EXPECT_EQ(cli({"status"}, "b").status, 0);
+  Outcome r = cli({"--json", "pose", "--height", "0.85"}, "b");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.parsed()["error"]["code"], "lease_held");
+  EXPECT_NE(r.parsed()["error"]["message"].get<std::string>().find("ballast lease take"),
+            std::string::npos);
+  r = cli({"lease", "acquire"}, "b");
+  EXPECT_EQ(r.status, 1);
+  // b takes it over; a is now refused.
+  r = cli({"lease", "take"}, "b");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(cli({"pose", "--height", "0.85"}, "b").status, 0);
+  EXPECT_EQ(cli({"stop"}, "a").status, 1);
+  r = cli({"lease", "return"}, "a");
+  EXPECT_EQ(r.status, 1);  // a does not hold it
+  r = cli({"lease", "return"}, "b");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(daemon_->status()["lease"]["held"], false);
+  // Free again: a's next motion command acquires it by itself.
+  EXPECT_EQ(cli({"stop"}, "a").status, 0);
+  EXPECT_EQ(daemon_->status()["lease"]["held"], true);
+}
+
+}  // namespace
+}  // namespace ballast::test

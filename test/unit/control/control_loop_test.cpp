@@ -1,0 +1,256 @@
+// The control loop in-process on the fake backend: commands in, replies and status out, a
+// planner in its slot, a profile switch; and the 1 kHz path allocates nothing: a counting
+// malloc watches every tick while the loop stands up, changes pose, takes a push, refuses a
+// walk, switches settings, records telemetry, faults on a NaN, is estopped and reset.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <filesystem>
+#include <thread>
+
+#include "control/control_loop.hpp"
+#include "profile/settings.hpp"
+#include "test/unit/test_support.hpp"
+
+extern "C" const ballast::backend::BackendEntry* ballast_backend_entry();
+
+namespace {
+thread_local bool counting = false;  // only the thread running the loop is watched
+std::atomic<long> allocations{0};
+}  // namespace
+
+extern "C" void* __libc_malloc(std::size_t);
+extern "C" void* malloc(std::size_t n) {
+  if (counting) allocations.fetch_add(1);
+  return __libc_malloc(n);
+}
+
+namespace ballast::control {
+namespace {
+
+ControlSettings simFlat() {
+  const profile::Profile p =
+      profile::Profile::load(std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat.yaml");
+  ControlSettings s = profile::buildSettings(p, test::humanoid());
+  s.initial_mode = Mode::kPassive;
+  s.stand_up_duration = 0.5;
+  return s;
+}
+
+class LoopOnFake : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    settings_ = simFlat();
+    backend_ = ballast_backend_entry()->create();
+    backend::Config config;
+    config.section_yaml = section_;
+    config.section_origin = "test:1";
+    const std::string urdf = test::humanoidUrdf();
+    config.urdf_path = urdf.c_str();
+    config.period = 0.001;
+    config.lockstep = true;
+    backend::Error error;
+    ASSERT_TRUE(backend_->configure(config, error)) << error.message;
+    ASSERT_TRUE(backend_->start(error));
+    LoopOptions options;
+    options.lockstep = true;
+    loop_ = std::make_unique<ControlLoop>(test::humanoid(), *backend_, settings_, options);
+  }
+  void TearDown() override {
+    loop_.reset();
+    ballast_backend_entry()->destroy(backend_);
+  }
+  /// Submits a command and ticks until its reply.
+  CommandReply command(OperatorCommand c) {
+    c.sequence = ++sequence_;
+    EXPECT_TRUE(loop_->submit(c));
+    CommandReply r;
+    for (int i = 0; i < 10 && !loop_->popReply(r); ++i) loop_->tick();
+    EXPECT_EQ(r.sequence, c.sequence);
+    return r;
+  }
+  void ticks(int n) {
+    for (int i = 0; i < n; ++i) loop_->tick();
+  }
+  const char* section_ = "{}";
+  ControlSettings settings_;
+  backend::Backend* backend_ = nullptr;
+  std::unique_ptr<ControlLoop> loop_;
+  std::uint64_t sequence_ = 0;
+};
+
+TEST_F(LoopOnFake, StandsUpAndAnswersCommands) {
+  ticks(5);
+  EXPECT_EQ(loop_->status().mode, Mode::kPassive);
+  OperatorCommand c;
+  c.kind = CommandKind::kStand;
+  CommandReply r = command(c);
+  EXPECT_EQ(r.refusal, Refusal::kNone);
+  EXPECT_EQ(r.mode, Mode::kStandUp);
+  ticks(3000);  // the fake's lightly damped arms settle in about 3 s
+  LoopStatus s = loop_->status();
+  EXPECT_EQ(s.mode, Mode::kStand);
+  // The fake's joints follow their PD commands: the robot now stands in the nominal posture.
+  for (int j = 0; j < s.num_joints; ++j) EXPECT_NEAR(s.q[j], settings_.nominal_q[j], 0.03) << j;
+  EXPECT_NEAR(s.base.position[2], loop_->nominalHeight(), 0.01);
+  c.kind = CommandKind::kWalk;
+  r = command(c);
+  EXPECT_EQ(r.refusal, Refusal::kUnavailable);
+  EXPECT_EQ(s.tick_overruns, 0u);
+  LoopEvent e;
+  int events = 0;
+  while (loop_->popEvent(e)) ++events;
+  EXPECT_GE(events, 2);  // passive -> stand-up -> stand
+}
+
+TEST_F(LoopOnFake, SettingsSwitchBlendsGainsAndReturnsTheOldOnes) {
+  OperatorCommand c;
+  c.kind = CommandKind::kStand;
+  command(c);
+  ticks(600);
+  auto next = std::make_unique<ControlSettings>(settings_);
+  for (double& kp : next->kp) kp *= 0.5;
+  next->gain_blend_time = 0.2;
+  c.kind = CommandKind::kSwitchSettings;
+  c.settings = next.get();
+  const CommandReply r = command(c);
+  EXPECT_EQ(r.refusal, Refusal::kNone);
+  EXPECT_EQ(r.retired, &settings_);
+  EXPECT_EQ(loop_->status().settings_generation, 1u);
+  ticks(300);
+  EXPECT_EQ(loop_->status().mode, Mode::kStand);
+}
+
+class CountingPlanner : public Planner {
+ public:
+  void plan(const PlannerInput& in, PlannerOutput& out) override {
+    out.t = in.t;
+    out.valid = true;
+    ++calls;
+  }
+  std::atomic<int> calls{0};
+};
+
+TEST_F(LoopOnFake, PlannerSlotRunsAtItsRateInControllerTime) {
+  CountingPlanner planner;
+  loop_->attachPlanner(&planner);
+  ticks(1000);  // 1 s of controller time at planner.rate 100 Hz, synchronous in lockstep
+  EXPECT_EQ(planner.calls.load(), 100);
+  EXPECT_TRUE(loop_->status().planner_available);
+}
+
+class NoAllocation : public LoopOnFake {
+ protected:
+  void SetUp() override {
+    section_ = "nan_at: 2.5";
+    LoopOnFake::SetUp();
+  }
+};
+
+TEST_F(NoAllocation, CounterSeesAnAllocation) {
+  counting = true;
+  void* p = std::malloc(16);
+  counting = false;
+  std::free(p);
+  EXPECT_GT(allocations.load(), 0);
+}
+
+TEST_F(NoAllocation, TheLoopAllocatesNothingPerTick) {
+  const std::string file = std::filesystem::temp_directory_path() /
+                           ("ballast-noalloc-" + std::to_string(getpid()) + ".tsv");
+  TelemetryWriter writer(loop_->telemetryRing(), loop_->jointNames());
+  loop_->setTelemetryWriter(&writer);
+  writer.start();
+  std::string error;
+  ASSERT_TRUE(writer.startRecording(file, error)) << error;
+  ControlSettings other = settings_;
+  other.gain_blend_time = 0.3;
+  ticks(3);  // first ticks: lazy one-time work is not the steady state
+
+  long counted = 0;
+  auto run = [&](OperatorCommand c, int n) {
+    c.sequence = ++sequence_;
+    ASSERT_TRUE(loop_->submit(c));
+    allocations = 0;
+    counting = true;
+    for (int i = 0; i < n; ++i) loop_->tick();
+    counting = false;
+    counted += allocations.load();
+    EXPECT_EQ(allocations.load(), 0) << "command kind " << static_cast<int>(c.kind);
+    CommandReply r;
+    while (loop_->popReply(r)) {
+    }
+    LoopEvent e;
+    while (loop_->popEvent(e)) {
+    }
+  };
+  OperatorCommand c;
+  c.kind = CommandKind::kStand;
+  run(c, 700);  // stand-up, then stand
+  c = {};
+  c.kind = CommandKind::kPose;
+  c.height = 0.84;
+  c.pitch = 0.05;
+  run(c, 500);
+  c = {};
+  c.kind = CommandKind::kPush;
+  c.push.force[0] = 20;
+  c.push.duration = 0.1;
+  run(c, 100);
+  c = {};
+  c.kind = CommandKind::kPose;  // refused: numbers formatted into the reply
+  c.height = 2.0;
+  run(c, 10);
+  c = {};
+  c.kind = CommandKind::kWalk;  // refused: a message formatted into the reply
+  c.vx = 0.3;
+  run(c, 100);
+  c = {};
+  c.kind = CommandKind::kSwitchSettings;
+  c.settings = &other;
+  run(c, 500);
+  c = {};
+  c.kind = CommandKind::kStop;
+  run(c, 700);  // the NaN at t = 2.5 s faults the loop into damp in here
+  EXPECT_EQ(loop_->status().mode, Mode::kDamp);
+  EXPECT_EQ(loop_->status().faults.fault[0].kind, FaultKind::kNotANumber);
+  c = {};
+  c.kind = CommandKind::kReset;
+  run(c, 50);
+  c = {};
+  c.kind = CommandKind::kEstop;
+  run(c, 50);
+  EXPECT_EQ(counted, 0);
+  EXPECT_GT(loop_->status().telemetry_frames, 2500u);
+  std::uint64_t frames;
+  std::string path;
+  writer.stopRecording(frames, path);
+  writer.stop();
+  EXPECT_EQ(frames, loop_->status().telemetry_frames);
+  std::filesystem::remove(file);
+}
+
+TEST_F(LoopOnFake, StatusReadersNeverHoldTheLoopUp) {
+  std::atomic<bool> done{false};
+  std::atomic<long> reads{0};
+  std::thread reader([&] {
+    while (!done) {
+      const LoopStatus s = loop_->status();
+      ASSERT_LE(s.t, 1e6);
+      ++reads;
+    }
+  });
+  OperatorCommand c;
+  c.kind = CommandKind::kStand;
+  c.sequence = 1;
+  loop_->submit(c);
+  ticks(2000);
+  done = true;
+  reader.join();
+  EXPECT_EQ(loop_->status().ticks, 1999u);
+  EXPECT_GT(reads.load(), 0);
+}
+
+}  // namespace
+}  // namespace ballast::control

@@ -1,0 +1,346 @@
+// Profiles: every problem is reported as file:line:column: key: what; extends merges maps and
+// replaces scalars and lists; the shipped profiles load; the man page is the schema's.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "profile/profile.hpp"
+#include "profile/settings.hpp"
+#include "test/unit/test_support.hpp"
+
+namespace ballast::profile {
+namespace {
+
+namespace fs = std::filesystem;
+
+class ProfileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("ballast-profile-test-" + std::to_string(::getpid()) + "-" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  std::string write(const std::string& name, const std::string& text) {
+    const std::string path = (dir_ / name).string();
+    std::ofstream(path) << text;
+    return path;
+  }
+  /// A minimal valid profile on the humanoid, to extend in tests.
+  std::string base() {
+    return write("base.yaml", "robot:\n  urdf: " + test::humanoidUrdf() + R"(
+  joint_groups:
+    legs: [left_hip_yaw, left_hip_roll, left_hip_pitch, left_knee, left_ankle_pitch, left_ankle_roll,
+           right_hip_yaw, right_hip_roll, right_hip_pitch, right_knee, right_ankle_pitch, right_ankle_roll]
+    arms: [left_shoulder_pitch, left_shoulder_roll, left_shoulder_yaw, left_elbow, left_wrist_yaw, left_wrist_pitch,
+           right_shoulder_pitch, right_shoulder_roll, right_shoulder_yaw, right_elbow, right_wrist_yaw, right_wrist_pitch]
+  nominal_posture: {left_hip_pitch: -0.4, left_knee: 0.8, left_ankle_pitch: -0.4,
+                    right_hip_pitch: -0.4, right_knee: 0.8, right_ankle_pitch: -0.4}
+control:
+  joint_kp: {legs: 300, arms: 80}
+  joint_kd: {legs: 8, arms: 2}
+backend:
+  name: fake
+  fake:
+    base_height: 0.9
+    faults:
+      at: 3
+)");
+  }
+  /// The problems loading path reports (empty if it loads).
+  std::vector<std::string> problems(const std::string& path) {
+    try {
+      const Profile p = Profile::load(path);
+      buildSettings(p, loadModel(p));
+    } catch (const ProfileError& e) {
+      return e.problems;
+    }
+    return {};
+  }
+  fs::path dir_;
+};
+
+TEST_F(ProfileTest, MinimalProfileLoadsWithDefaults) {
+  const Profile p = Profile::load(base());
+  EXPECT_EQ(p.name(), "base");
+  EXPECT_EQ(p.number("control.rate"), 1000.0);
+  EXPECT_EQ(p.origin("control.rate").str(), "default");
+  EXPECT_EQ(p.text("wbc.variant"), "hierarchical");
+  EXPECT_EQ(p.numbers("planner.q_base").size(), 6u);
+  EXPECT_EQ(p.origin("backend.name").str(), p.path() + ":14:9");
+  const control::ControlSettings s = buildSettings(p, loadModel(p));
+  EXPECT_EQ(s.num_joints, 24);
+  EXPECT_DOUBLE_EQ(s.kp[3], 300.0);  // left_knee is a leg joint
+  EXPECT_DOUBLE_EQ(s.kd[12], 2.0);   // left_shoulder_pitch is an arm joint
+}
+
+TEST_F(ProfileTest, EveryDefaultIsValid) {
+  // finish() checks every default against its own key and throws std::logic_error otherwise.
+  EXPECT_NO_THROW(Profile::load(base()));
+  for (const Key& k : schema()) EXPECT_NE(std::string(k.doc), "") << k.name;
+}
+
+TEST_F(ProfileTest, UnknownKeySuggestsTheClosest) {
+  base();
+  const auto p = problems(write("p.yaml", "extends: base\ngait:\n  perod: 0.5\n"));
+  ASSERT_EQ(p.size(), 1u) << testing::PrintToString(p);
+  EXPECT_EQ(p[0], (dir_ / "p.yaml").string() +
+                      ":3:3: gait.perod: unknown key (did you mean gait.period?); "
+                      "ballast-profile(5) lists every key");
+}
+
+TEST_F(ProfileTest, EveryProblemOfAFileAtOnceWithLineAndColumn) {
+  base();
+  const std::string path = write("p.yaml", R"(extends: base
+control:
+  rate: fast
+  stand_up_duration: 100
+wbc:
+  variant: tiered
+planner:
+  q_base: [1, 2, 3]
+gait:
+  period: 0.5
+  period: 0.6
+safety:
+  fall_on_non_foot_contact: maybe
+)");
+  const auto p = problems(path);
+  ASSERT_EQ(p.size(), 6u) << testing::PrintToString(p);
+  EXPECT_EQ(p[0], path + ":3:9: control.rate: expected a number, got 'fast'");
+  EXPECT_EQ(p[1], path + ":4:22: control.stand_up_duration: 100 is out of range [0.1, 30] s");
+  EXPECT_EQ(p[2], path + ":6:12: wbc.variant: 'tiered' is not one of hierarchical,weighted");
+  EXPECT_EQ(p[3], path + ":8:11: planner.q_base: expected a list of 6 numbers, got 3");
+  EXPECT_EQ(p[4], path + ":11:3: gait.period: duplicate key");
+  EXPECT_EQ(p[5],
+            path + ":13:29: safety.fall_on_non_foot_contact: expected true or false, got 'maybe'");
+}
+
+TEST_F(ProfileTest, YamlSyntaxErrorNamesLineAndColumn) {
+  const std::string path = write("p.yaml", "robot:\n  urdf: [a, b\ncontrol: {}\n");
+  const auto p = problems(path);
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_EQ(p[0].rfind(path + ":3:", 0), 0u) << p[0];
+  EXPECT_NE(p[0].find("YAML syntax"), std::string::npos);
+}
+
+TEST_F(ProfileTest, SectionMustBeAMapAndTopLevelAMap) {
+  base();
+  auto p = problems(write("p.yaml", "extends: base\ngait: 3\n"));
+  ASSERT_EQ(p.size(), 1u) << testing::PrintToString(p);
+  EXPECT_EQ(p[0], (dir_ / "p.yaml").string() +
+                      ":2:7: gait: is a section: expected a map of its keys, got '3'");
+  p = problems(write("q.yaml", "- a\n- b\n"));
+  ASSERT_EQ(p.size(), 1u) << testing::PrintToString(p);
+  EXPECT_NE(p[0].find("a profile is a YAML map of sections"), std::string::npos);
+}
+
+TEST_F(ProfileTest, ExtendsMergesMapsAndReplacesScalarsAndLists) {
+  base();
+  const Profile p = Profile::load(write("p.yaml", R"(extends: base
+robot:
+  nominal_posture: {left_elbow: -20deg}
+  contact_frames: [left_heel, left_toe, right_heel, right_toe]
+control:
+  joint_kp: {arms: 50}
+  rate: 500
+)"));
+  const auto posture = p.numberMap("robot.nominal_posture");
+  EXPECT_DOUBLE_EQ(posture.at("left_knee"), 0.8);                      // from the base: maps merge
+  EXPECT_NEAR(posture.at("left_elbow"), -20.0 * M_PI / 180.0, 1e-12);  // deg suffix
+  EXPECT_EQ(p.strings("robot.contact_frames")[0], "left_heel");        // lists replace
+  EXPECT_EQ(p.numberMap("control.joint_kp").at("legs"), 300.0);
+  EXPECT_EQ(p.numberMap("control.joint_kp").at("arms"), 50.0);
+  EXPECT_EQ(p.number("control.rate"), 500.0);
+  EXPECT_EQ(p.origin("control.rate").line, 7);
+  EXPECT_EQ(p.origin("control.joint_kp", "legs").file, (dir_ / "base.yaml").string());
+  EXPECT_EQ(p.files().size(), 2u);
+}
+
+TEST_F(ProfileTest, PathsAreRelativeToTheFileThatSetsThem) {
+  fs::create_directories(dir_ / "sub");
+  base();
+  const Profile p =
+      Profile::load(write("sub/p.yaml", "extends: ../base.yaml\nterrain:\n  map: maps/x.bt\n"));
+  EXPECT_EQ(p.text("terrain.map"), (dir_ / "sub/maps/x.bt").string());
+  EXPECT_EQ(p.text("robot.urdf"), test::humanoidUrdf());
+}
+
+TEST_F(ProfileTest, ExtendsCycleAndMissingBase) {
+  write("a.yaml", "extends: b\n");
+  write("b.yaml", "extends: a.yaml\n");
+  auto p = problems((dir_ / "a.yaml").string());
+  ASSERT_FALSE(p.empty());
+  EXPECT_NE(p[0].find("extends: cycle"), std::string::npos) << p[0];
+  p = problems(write("c.yaml", "extends: nowhere\n"));
+  ASSERT_FALSE(p.empty());
+  EXPECT_EQ(
+      p[0].rfind(
+          (dir_ / "c.yaml").string() + ":1:10: extends: profile 'nowhere': no nowhere.yaml in", 0),
+      0u)
+      << p[0];
+}
+
+TEST_F(ProfileTest, ModelChecksNameTheEntry) {
+  base();
+  const std::string path = write("p.yaml", R"(extends: base
+robot:
+  nominal_posture:
+    left_knees: 0.5
+    right_knee: 3.0
+control:
+  joint_kp: {torso: 10}
+)");
+  const auto p = problems(path);
+  ASSERT_EQ(p.size(), 3u) << testing::PrintToString(p);
+  EXPECT_EQ(p[0].rfind(path + ":4:5: robot.nominal_posture.left_knees: no movable joint", 0), 0u)
+      << p[0];
+  EXPECT_EQ(p[1].rfind(path + ":5:5: robot.nominal_posture.right_knee: 3 rad is outside the "
+                              "joint's limits [0, 2.4]",
+                       0),
+            0u)
+      << p[1];
+  EXPECT_EQ(p[2].rfind(path + ":7:14: control.joint_kp.torso: no joint group of that name", 0), 0u)
+      << p[2];
+}
+
+TEST_F(ProfileTest, EveryJointNeedsAGroupAndEveryGroupGains) {
+  const std::string path = write("p.yaml", "robot:\n  urdf: " + test::humanoidUrdf() +
+                                               "\n  joint_groups:\n    legs: [left_knee]\n"
+                                               "control:\n  joint_kd: {legs: 1}\n");
+  const auto p = problems(path);
+  ASSERT_EQ(p.size(), 2u) << testing::PrintToString(p);
+  EXPECT_NE(p[0].find("robot.joint_groups: joints in no group: left_hip_yaw"), std::string::npos);
+  EXPECT_NE(p[1].find("control.joint_kp: no entry for joint group 'legs'"), std::string::npos);
+}
+
+TEST_F(ProfileTest, BackendSectionIsTheFilesOwnLines) {
+  const Profile p = Profile::load(base());
+  const Profile::BackendSection s = p.backendSection();
+  EXPECT_EQ(s.origin, p.path() + ":16");  // the line of "base_height"
+  EXPECT_EQ(s.yaml, "    base_height: 0.9\n    faults:\n      at: 3\n");
+}
+
+TEST_F(ProfileTest, MergedBackendSectionIsReemittedAndProblemsRelocated) {
+  base();
+  const std::string path =
+      write("p.yaml", "extends: base\nbackend:\n  fake:\n    faults: {stale: 2}\n");
+  const Profile p = Profile::load(path);
+  const YAML::Node merged = YAML::Load(p.backendSection().yaml);
+  EXPECT_EQ(merged["base_height"].as<double>(), 0.9);
+  EXPECT_EQ(merged["faults"]["at"].as<int>(), 3);
+  EXPECT_EQ(merged["faults"]["stale"].as<int>(), 2);
+  EXPECT_EQ(p.locateBackendProblem("x.yaml:9:9: faults.stale: must be positive"),
+            path + ":4:14: faults.stale: must be positive");
+  EXPECT_EQ(p.locateBackendProblem("x.yaml:9:9: base_height: too high"),
+            (dir_ / "base.yaml").string() + ":16:5: base_height: too high");
+  EXPECT_EQ(p.locateBackendProblem("no location here"), "no location here");
+}
+
+TEST_F(ProfileTest, AnotherBackendsSectionIsAnErrorOnlyWhereTheBackendIsNamed) {
+  base();
+  auto p = problems(write("p.yaml", "extends: base\nbackend:\n  faek: {a: 1}\n"));
+  ASSERT_EQ(p.size(), 1u);
+  EXPECT_NE(p[0].find(":3:3: backend.faek: unknown key: the backend's own section is named after "
+                      "backend.name (backend.fake)"),
+            std::string::npos)
+      << p[0];
+  // Switching backend in a derived profile ignores the inherited section of the old one.
+  p = problems(write("q.yaml", "extends: base\nbackend:\n  name: other\n  other: {x: 1}\n"));
+  EXPECT_TRUE(p.empty()) << testing::PrintToString(p);
+}
+
+TEST_F(ProfileTest, RestartChangesListsOnlyRestartKeys) {
+  const Profile a = Profile::load(base());
+  const Profile b = Profile::load(
+      write("b.yaml", "extends: base\ncontrol:\n  rate: 500\n  stand_up_duration: 3\n"));
+  const auto changed = Profile::restartChanges(a, b);
+  ASSERT_EQ(changed.size(), 1u);
+  EXPECT_EQ(changed[0].rfind("control.rate", 0), 0u);
+  const Profile c =
+      Profile::load(write("c.yaml", "extends: base\nbackend:\n  fake: {base_height: 1.0}\n"));
+  ASSERT_EQ(Profile::restartChanges(a, c).size(), 1u);
+  EXPECT_EQ(Profile::restartChanges(a, c)[0], "backend.fake");
+}
+
+TEST_F(ProfileTest, DescribeShowsValuesWithOrigins) {
+  const Profile p = Profile::load(base());
+  const std::string d = p.describe();
+  EXPECT_NE(d.find("  rate: 1000  # default\n"), std::string::npos) << d;
+  EXPECT_NE(d.find("  name: fake  # " + p.path() + ":14:9\n"), std::string::npos) << d;
+  EXPECT_NE(d.find("    left_knee: 0.8  # " + p.path()), std::string::npos) << d;
+}
+
+TEST(ShippedProfiles, LoadAndCheckAgainstTheModel) {
+  for (const char* name : {"sim-flat", "sim-stage", "sim-rough", "hardware-example"}) {
+    SCOPED_TRACE(name);
+    const std::string path = std::string(BALLAST_SOURCE_DIR) + "/profiles/" + name + ".yaml";
+    try {
+      const Profile p = Profile::load(path);
+      const control::ControlSettings s = buildSettings(p, loadModel(p));
+      EXPECT_EQ(s.num_joints, 24);
+    } catch (const ProfileError& e) {
+      ADD_FAILURE() << e.what();
+    }
+  }
+  const Profile flat = Profile::load(std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat.yaml");
+  EXPECT_EQ(flat.text("backend.name"), "simbody");
+  const Profile hw =
+      Profile::load(std::string(BALLAST_SOURCE_DIR) + "/profiles/hardware-example.yaml");
+  EXPECT_EQ(hw.text("backend.name"), "socketcan");
+  EXPECT_EQ(hw.text("control.initial_mode"), "passive");
+}
+
+TEST(ManPage, IsGeneratedFromTheSchema) {
+  std::ifstream in(std::string(BALLAST_SOURCE_DIR) + "/man/ballast-profile.5");
+  ASSERT_TRUE(in) << "man/ballast-profile.5 is missing";
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_TRUE(text.str() == schemaManPage())
+      << "man/ballast-profile.5 differs from the schema: regenerate it with\n"
+         "  build/bin/ballastd --dump-schema=man > man/ballast-profile.5";
+  for (const Key& k : schema()) {
+    std::string escaped;
+    for (char c : std::string(k.name)) escaped += c == '-' ? std::string("\\-") : std::string(1, c);
+    EXPECT_NE(text.str().find(".B " + escaped + "\n"), std::string::npos) << k.name;
+  }
+}
+
+}  // namespace
+}  // namespace ballast::profile
+
+#ifdef BALLAST_HAVE_WBC
+#include "profile/wbc_settings.hpp"
+
+namespace ballast::profile {
+namespace {
+
+TEST(WbcSettings, FromTheShippedProfileAndTheirProblemsLocated) {
+  const Profile p = Profile::load(std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat.yaml");
+  const wbc::WbcSettings s = wbcSettings(p, loadModel(p));
+  EXPECT_EQ(s.variant, wbc::WbcVariant::kHierarchical);
+  EXPECT_EQ(s.jointSpaceJoints.size(), 12u);  // the arms group
+  EXPECT_EQ(s.jointSpaceJoints[0], "left_shoulder_pitch");
+  EXPECT_EQ(s.contactFrames.size(), 4u);
+  EXPECT_DOUBLE_EQ(s.period, 0.001);
+  EXPECT_EQ(s.torqueLimit.size(), 24u);
+  const std::string dir = ::testing::TempDir();
+  const std::string bad = dir + "/wbc-bad.yaml";
+  std::ofstream(bad) << "extends: " << p.path() << "\nwbc:\n  base_frame: left_toe\n";
+  const Profile q = Profile::load(bad);
+  try {
+    wbcSettings(q, loadModel(q));
+    ADD_FAILURE() << "a base frame off the base was accepted";
+  } catch (const ProfileError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind(q.path() + ":3:15: wbc.base_frame: ", 0), 0u)
+        << "message: " << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace ballast::profile
+#endif
