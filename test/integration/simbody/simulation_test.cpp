@@ -12,18 +12,7 @@
 #include "simbody_backend.hpp"
 #include "terrain_maps.hpp"
 #include "test/integration/simbody/sim_test_support.hpp"
-
-namespace {
-std::atomic<bool> countingMallocs{false};
-std::atomic<long> mallocs{0};
-}  // namespace
-
-// Counts allocations while countingMallocs is set (glibc lets a program interpose malloc).
-extern "C" void* __libc_malloc(std::size_t);
-extern "C" void* malloc(std::size_t n) {
-  if (countingMallocs.load(std::memory_order_relaxed)) mallocs.fetch_add(1);
-  return __libc_malloc(n);
-}
+#include "test/unit/allocation_counter.hpp"
 
 namespace ballast::simbody::test {
 namespace {
@@ -341,18 +330,15 @@ TEST(Simulation, ReadAndWriteAllocateNothing) {
   ASSERT_TRUE(sim.ok) << sim.message;
   ASSERT_TRUE(sim.run(2, sim.hold));
   backend::Sensors s;
-  mallocs = 0;
-  countingMallocs = true;
-  const Status w = sim.backend.write(sim.hold);
-  const Status r = sim.backend.read(s);
-  countingMallocs = false;
+  Status w, r;
+  EXPECT_EQ(ballast::test::allocationsIn([&] {
+              w = sim.backend.write(sim.hold);
+              r = sim.backend.read(s);
+            }),
+            0);
   EXPECT_EQ(w, Status::kOk);
   EXPECT_EQ(r, Status::kStale);
-  EXPECT_EQ(mallocs.load(), 0);
-  countingMallocs = true;  // the counter works
-  std::vector<int> v(100);
-  countingMallocs = false;
-  EXPECT_GT(mallocs.load(), 0);
+  EXPECT_GT(ballast::test::allocationsIn([] { std::vector<int> v(100); }), 0);  // it counts
 }
 
 TEST(Simulation, AFallingRobotTouchesWithMoreThanItsFeetAndStaysAboveTheFloor) {

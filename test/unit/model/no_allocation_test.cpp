@@ -2,38 +2,14 @@
 // counting malloc.
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-
+#include "test/unit/allocation_counter.hpp"
 #include "model/autodiff.hpp"
 #include "test/unit/test_support.hpp"
-
-namespace {
-std::atomic<bool> counting{false};
-std::atomic<long> allocations{0};
-}  // namespace
-
-// glibc lets a program interpose malloc; operator new and Eigen both allocate through it.
-extern "C" void* __libc_malloc(std::size_t);
-extern "C" void* malloc(std::size_t n) {
-  if (counting.load(std::memory_order_relaxed)) allocations.fetch_add(1);
-  return __libc_malloc(n);
-}
 
 namespace ballast::test {
 namespace {
 
 using namespace model;
-
-/// Allocations made by f().
-template <typename F>
-long allocationsIn(F&& f) {
-  allocations = 0;
-  counting = true;
-  f();
-  counting = false;
-  return allocations.load();
-}
 
 TEST(NoAllocation, CounterSeesAnAllocation) {
   EXPECT_GT(allocationsIn([] { VecX<double> x(100); x.setZero(); }), 0);

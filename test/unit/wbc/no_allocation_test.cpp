@@ -2,37 +2,14 @@
 // tick, run on prepared objects, are watched by a counting malloc (as in test/unit/model).
 #include <gtest/gtest.h>
 
-#include <atomic>
-#include <cstdlib>
-
+#include "test/unit/allocation_counter.hpp"
 #include "test/unit/wbc/qp_test_support.hpp"
 #include "test/unit/wbc/wbc_test_support.hpp"
-
-namespace {
-std::atomic<bool> counting{false};
-std::atomic<long> allocations{0};
-}  // namespace
-
-// glibc lets a program interpose malloc; operator new and Eigen both allocate through it.
-extern "C" void* __libc_malloc(std::size_t);
-extern "C" void* malloc(std::size_t n) {
-  if (counting.load(std::memory_order_relaxed)) allocations.fetch_add(1);
-  return __libc_malloc(n);
-}
 
 namespace ballast::test {
 namespace {
 
 using namespace wbc;
-
-template <typename F>
-long allocationsIn(F&& f) {
-  allocations = 0;
-  counting = true;
-  f();
-  counting = false;
-  return allocations.load();
-}
 
 TEST(WbcNoAllocation, CounterSeesAnAllocation) {
   EXPECT_GT(allocationsIn([] { Eigen::VectorXd x(100); x.setZero(); }), 0);

@@ -1,0 +1,96 @@
+#include "estimation/contact_force_observer.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include <Eigen/Cholesky>
+
+#include "model/frames.hpp"
+
+namespace ballast::estimation {
+
+namespace {
+constexpr double kRegularization = 1e-6;  // m², λ of the per-foot least squares
+}
+
+ContactForceObserver::ContactForceObserver(const model::Model& model,
+                                           const std::array<int, kContactPoints>& contactFrames)
+    : model_(model),
+      frames_(contactFrames),
+      r_(Eigen::VectorXd::Zero(model.nv)),
+      vPrevious_(Eigen::VectorXd::Zero(model.nv)),
+      J_(3, model.nv) {
+  for (int c = 0; c < kContactPoints; ++c) {
+    Jc_[c].setZero(3, model.nv);
+    force_[c].setZero();
+    footForce_[c].setZero();
+    const int body = model.frames[contactFrames[c]].body;
+    if (body == 0)
+      throw model::ModelError(model.sourceFile + ": contact frame '" +
+                              model.frames[contactFrames[c]].name + "' is on the floating base");
+    auto same = [&](const Foot& f) { return model.frames[frames_[f.points[0]]].body == body; };
+    auto it = std::find_if(feet_.begin(), feet_.end(), same);
+    if (it != feet_.end()) {
+      it->points.push_back(c);
+      continue;
+    }
+    Foot foot;
+    foot.points.push_back(c);
+    for (int i = body; i > 0; i = model.parent[i]) foot.chain.insert(foot.chain.begin(), 5 + i);
+    if (static_cast<int>(foot.chain.size()) > kMaxChain)
+      throw model::ModelError(model.sourceFile + ": contact frame '" +
+                              model.frames[contactFrames[c]].name + "' is " +
+                              std::to_string(foot.chain.size()) + " joints from the base; the "
+                              "contact force observer handles at most " +
+                              std::to_string(kMaxChain));
+    feet_.push_back(foot);
+  }
+  for (const Foot& f : feet_)
+    for (int row : f.chain)
+      if (std::find(rows_.begin(), rows_.end(), row) == rows_.end()) rows_.push_back(row);
+}
+
+void ContactForceObserver::update(const model::Data<double>& data, const Eigen::VectorXd& v,
+                                  const Eigen::VectorXd& tau, double dt, double bandwidth) {
+  const double alpha = std::min(bandwidth * dt, 1.0);
+  for (int row : rows_) {
+    const double staticPart = data.nle[row] - tau[row - 6];
+    if (!started_) {
+      r_[row] = staticPart;
+    } else {
+      const double inertial = data.M.row(row).dot(v - vPrevious_);
+      r_[row] = (1.0 - alpha) * r_[row] + alpha * staticPart + bandwidth * inertial;
+    }
+  }
+  vPrevious_ = v;
+  started_ = true;
+
+  for (int c = 0; c < kContactPoints; ++c) model::frameJacobian(model_, data, frames_[c], Jc_[c]);
+
+  for (const Foot& foot : feet_) {
+    const int n = static_cast<int>(foot.chain.size());
+    const int m = 3 * static_cast<int>(foot.points.size());
+    ChainMatrix A(n, m);
+    ChainVector b(n);
+    for (int a = 0; a < n; ++a) {
+      b[a] = r_[foot.chain[a]];
+      for (int p = 0; p < static_cast<int>(foot.points.size()); ++p)
+        A.block<1, 3>(a, 3 * p) = Jc_[foot.points[p]].col(foot.chain[a]).transpose();
+    }
+    ForceMatrix N(m, m);
+    N.noalias() = A.transpose() * A;
+    N.diagonal().array() += kRegularization;
+    ForceVector rhs(m);
+    rhs.noalias() = A.transpose() * b;
+    const Eigen::LDLT<ForceMatrix> ldlt(N);
+    const ForceVector F = ldlt.solve(rhs);
+    Eigen::Vector3d total = Eigen::Vector3d::Zero();
+    for (int p = 0; p < static_cast<int>(foot.points.size()); ++p) {
+      force_[foot.points[p]] = F.segment<3>(3 * p);
+      total += F.segment<3>(3 * p);
+    }
+    for (int point : foot.points) footForce_[point] = total;
+  }
+}
+
+}  // namespace ballast::estimation
