@@ -43,7 +43,8 @@ class ContactSchedule {
  public:
   static constexpr int kMaxSegments = 8;
 
-  explicit ContactSchedule(const Gait& initial = Gait{}, double startTime = 0.0);
+  ContactSchedule() : ContactSchedule(Gait{}, 0.0) {}  ///< standing from time 0
+  explicit ContactSchedule(const Gait& initial, double startTime = 0.0);
 
   /// Requests `gait` from time t on; returns the time it takes effect (see header comment).
   double setGait(const Gait& gait, double t);

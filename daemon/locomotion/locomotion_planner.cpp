@@ -1,5 +1,6 @@
 #include "locomotion/locomotion_planner.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -91,8 +92,43 @@ Eigen::VectorXd LocomotionPlanner::measuredState(const Eigen::VectorXd& q, const
   return x;
 }
 
+LocomotionCommand LocomotionPlanner::slewed(double t, const LocomotionCommand& operatorCommand) {
+  const double dt = velocityTime_ < 0.0 ? 0.0 : std::clamp(t - velocityTime_, 0.0, 0.1);
+  velocityTime_ = t;
+  const bool walk = operatorCommand.walk;
+  auto toward = [dt](double& value, double target, double rate) {
+    value += std::clamp(target - value, -rate * dt, rate * dt);
+  };
+  // The base starts moving when the feet do (walkStartDelay): a reference that left earlier
+  // would have to be caught up with, faster than commanded.
+  const bool moving = walk && t >= walkStartsAt_ - 1e-9;
+  const double targetVx = moving ? operatorCommand.vx : 0.0;
+  const double targetVy = moving ? operatorCommand.vy : 0.0;
+  const double targetYawRate = moving ? operatorCommand.yawRate : 0.0;
+  toward(velocity_.vx, targetVx, settings_.maxAcceleration);
+  toward(velocity_.vy, targetVy, settings_.maxAcceleration);
+  toward(velocity_.yawRate, targetYawRate, settings_.maxYawAcceleration);
+  accelerating_ = std::abs(velocity_.vx - targetVx) > 1e-9 || std::abs(velocity_.vy - targetVy) > 1e-9 ||
+                  std::abs(velocity_.yawRate - targetYawRate) > 1e-9;
+  LocomotionCommand c = operatorCommand;
+  c.vx = velocity_.vx;
+  c.vy = velocity_.vy;
+  c.yawRate = velocity_.yawRate;
+  // Keep stepping while the base still moves at the commanded velocity, and stopDelay longer:
+  // the steps that take out what the body still carries.
+  const bool commanded = std::abs(c.vx) > 1e-6 || std::abs(c.vy) > 1e-6 || std::abs(c.yawRate) > 1e-6;
+  if (commanded) lastCommandedMotion_ = t;
+  c.walk = walk || commanded || (walking_ && t < lastCommandedMotion_ + settings_.stopDelay);
+  return c;
+}
+
 bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
-                               const LocomotionCommand& command, Plan& plan) {
+                               const LocomotionCommand& operatorCommand, Plan& plan) {
+  // Walking from standing starts walkStartDelay later, so the plan has time to shift the weight
+  // onto the first stance foot before the other one lifts.
+  const bool starting = operatorCommand.walk && !schedule_.latestGait().walking;
+  if (starting) walkStartsAt_ = t + settings_.walkStartDelay;
+  const LocomotionCommand command = slewed(t, operatorCommand);
   const Eigen::VectorXd x = measuredState(q, v);  // also leaves FK and composite inertias in data_
   const Eigen::Matrix3d R = model::quaternionToRotation<double>(q.segment<4>(3));
   const Eigen::Vector3d baseVelocity = R * v.head<3>();
@@ -103,12 +139,22 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
     gaitState.contactPositions[c] = model::framePlacement(model_, data_, frames_[c]).p;
   const gait::PlanarPose start =
       referenceStart(t, x, command, feetHeading(gaitState.contactPositions));
-  // Footholds follow the reference base trajectory (the hip where the plan wants it at
-  // touch-down), the measured velocity enters through the capture-point term.
-  gaitState.base = start;
+  // Footholds: the hip at touch-down predicted from where the base is, moved towards the
+  // reference base by at most footholdLead, at the commanded velocity; the measured velocity
+  // enters through the capture-point term. From the reference base itself (a lead of up to
+  // maxPositionLead), a robot behind its reference — pushed back, or slower than the command —
+  // is asked for steps longer by the whole lead, which it takes by crouching, and one ahead of
+  // it — pushed forward, stopping — for steps too short to stop it: it fell over them. From the
+  // base alone nothing brings a position error back, and the plan keeps walking off it.
+  gaitState.base.position = x.segment<3>(CentroidalLayout::kBasePosition);
+  gaitState.base.yaw = start.yaw;
+  Eigen::Vector3d lead = start.position - gaitState.base.position;
+  lead.z() = 0.0;
+  if (lead.norm() > settings_.footholdLead) lead *= settings_.footholdLead / lead.norm();
+  gaitState.base.position += lead;
 
   // Gait: walking or standing, changed only where the schedule allows.
-  schedule_.setGait(command.walk ? settings_.walkGait : gait::Gait{}, t);
+  schedule_.setGait(command.walk ? settings_.walkGait : gait::Gait{}, starting ? walkStartsAt_ : t);
   const double horizon = settings_.sqp.nodes * settings_.sqp.dt;
   swings_.update(schedule_, gaitState, planarCommand(command), horizon, terrain_);
 
@@ -142,7 +188,10 @@ gait::PlanarPose LocomotionPlanner::referenceStart(double t, const Eigen::Vector
   const double yaw = x[CentroidalLayout::kBaseZyx];
   const Eigen::Vector2d measured = start.position.head<2>();
   if (command.walk) {
-    if (!walking_) {  // walking starts from where the base is, along its heading
+    // From where the base is, along its heading: when walking starts, and while the commanded
+    // velocity changes — a lead gathered then (the robot cannot follow a velocity ramp exactly)
+    // would be made up afterwards by walking faster than commanded.
+    if (!walking_ || accelerating_) {
       heading_ = yaw;
       position_ = measured;
     } else {
@@ -194,8 +243,8 @@ void LocomotionPlanner::fillReferences(double t, const gait::PlanarPose& start,
     for (int c = 0; c < kNumContacts; ++c) {
       r.stance[c] = flags[c];
       stanceCount += flags[c];
-      if (!flags[c]) {
-        const gait::PointReference p = swings_.reference(c, tk);
+      if (!flags[c]) {  // at the interval's middle, where the problem evaluates the swing
+        const gait::PointReference p = swings_.reference(c, tk + 0.5 * dt);
         r.swingPosition[c] = p.position;
         r.swingVelocity[c] = p.velocity;
       }
@@ -210,7 +259,9 @@ void LocomotionPlanner::fillReferences(double t, const gait::PlanarPose& start,
         Eigen::Vector3d(pose.position.x(), pose.position.y(),
                         terrain_.height(pose.position.x(), pose.position.y()) + height);
     r.x.segment<3>(L.kBaseZyx) = Eigen::Vector3d(pose.yaw, command.pitch, command.roll);
-    r.x.segment(L.kJoints, model_.nj()) = settings_.nominalJoints;
+    r.x.segment(L.kJoints, model_.nj()) =
+        !command.walk && command.standingJoints.size() == model_.nj() ? command.standingJoints
+                                                                       : settings_.nominalJoints;
     r.u.setZero();
     for (int c = 0; c < kNumContacts; ++c)
       if (flags[c] && stanceCount > 0) r.u[L.force(c) + 2] = m * g / stanceCount;
@@ -234,7 +285,19 @@ void PlanSampler::sample(const Plan& plan, double t, PlanSample& out) {
   const double a = s - k;
   x_ = (1.0 - a) * Eigen::Map<const Eigen::VectorXd>(plan.x[k], plan.nx) +
        a * Eigen::Map<const Eigen::VectorXd>(plan.x[k + 1], plan.nx);
-  u_ = Eigen::Map<const Eigen::VectorXd>(plan.u[k], plan.nu);  // inputs hold over a node
+  // Inputs interpolated between nodes too (as OCS2's controllers read a policy): joint
+  // velocities, forces and the base velocity they imply change at the rate the plan asks for,
+  // (u_k+1 − u_k)/dt, from the node on, instead of jumping at the next node — a jump that the
+  // base and arm acceleration references (differences over a few ms) would turn into spikes.
+  // The controller reads a plan only in its first planner period, from its node 0 on.
+  // Not across a change of contact mode: a point's force and the joint velocities that keep
+  // the stance points still jump there by design (touch-down, lift-off).
+  const int i = std::min(k, std::max(plan.nodes - 2, 0));
+  const bool sameMode = plan.schedule.flagsAt(plan.t0 + i * plan.dt) ==
+                        plan.schedule.flagsAt(plan.t0 + (i + 1) * plan.dt);
+  const double b = plan.nodes > 1 && sameMode ? std::clamp(s - i, 0.0, 1.0) : 0.0;
+  u_ = (1.0 - b) * Eigen::Map<const Eigen::VectorXd>(plan.u[i], plan.nu);
+  if (b > 0.0) u_ += b * Eigen::Map<const Eigen::VectorXd>(plan.u[i + 1], plan.nu);
   model::centroidalDynamics(model_, data_, frames_, x_, u_, xdot_);
 
   const Eigen::Vector3d zyx = x_.segment<3>(L.kBaseZyx);
@@ -251,7 +314,7 @@ void PlanSampler::sample(const Plan& plan, double t, PlanSample& out) {
   const gait::ContactFlags flags = plan.schedule.flagsAt(t);
   for (int c = 0; c < kNumContacts; ++c) {
     out.stance[c] = flags[c];
-    out.contactForce[c] = u_.segment<3>(L.force(c));
+    out.contactForce[c] = flags[c] ? Eigen::Vector3d(u_.segment<3>(L.force(c))) : Eigen::Vector3d::Zero();
     out.contact[c] = plan.swings.reference(c, t);
   }
 }

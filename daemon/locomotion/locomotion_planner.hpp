@@ -3,12 +3,19 @@
 //   trajectories) -> references per MPC node -> one SQP iteration -> Plan
 // and PlanSampler, which reads a Plan at the controller's rate.
 //
+// The operator's velocity is slewed (maxAcceleration); walking from standing starts
+// walkStartDelay later (weight shift first), and stepping goes on stopDelay after the slewed
+// velocity reached zero. Footholds: eq. (desired_swing_traj) from the measured base, moved
+// towards the reference base by at most footholdLead.
+//
 // References per node t_k = t + k·dt:
-//   contact mode from the schedule; swing points follow their swing trajectories;
-//   base: walking, the commanded velocity integrated since walking began, as a position and a
-//   heading that advance with the command (so speed and heading errors show as position
-//   errors and are corrected, not inherited), held within `maxPositionLead` of the measured
-//   base so a push is not followed by a sprint; then an arc over the horizon. Standing: over
+//   contact mode from the schedule; swing points follow their swing trajectories (sampled at
+//   the middle of each node's interval, where the problem evaluates them);
+//   base: walking, the commanded velocity integrated as a position and a heading that advance
+//   with the command (so steady speed and heading errors show as position errors and are
+//   corrected, not inherited) — restarted from the measured base while the commanded velocity
+//   is still slewing — held within `maxPositionLead` of the measured base so a push is not
+//   followed by a sprint; then an arc over the horizon. Standing: over
 //   the feet, facing their heading plus the pose yaw. Height above the terrain under the base,
 //   roll and pitch from the pose command;
 //   momentum: m·v_des linear, I_zz·ω_des about z; joints: the nominal posture;
@@ -39,8 +46,18 @@ struct CostWeights {
   double legJoint = 5.0;              ///< rad⁻²
   double armJoint = 5.0;              ///< rad⁻²
   double force = 1e-3;                ///< N⁻²
-  double legJointVelocity = 0.05;     ///< (rad/s)⁻²
-  double armJointVelocity = 0.2;      ///< (rad/s)⁻²
+  /// (rad/s)⁻². Kept small: every leg joint velocity a walking step needs is penalised, and a
+  /// crouched posture needs smaller ones, so a large weight buys lower joint speeds with base
+  /// height (at 10 the plan walked 8 cm low on its own model). The plan used to chatter at small
+  /// weights because explicit Euler let alternating joint velocities steer the base; the
+  /// discretisation no longer allows that (mpc/kinodynamic_problem.hpp).
+  double legJointVelocity = 0.5;
+  /// (rad/s)⁻². The arms are the plan's cheapest way to change the base velocity the momentum
+  /// implies, so the first node also uses them to absorb a measured state that does not quite
+  /// fit the contacts (a rolling or sliding foot): at 0.5 that turns into arm accelerations of
+  /// hundreds of rad/s² at lift-off. 1 keeps the arm swing (the momentum balance of the legs)
+  /// and damps that; ≥ 2 nearly freezes the arms at 0.5 m/s.
+  double armJointVelocity = 1.0;
 };
 
 struct LocomotionSettings {
@@ -50,7 +67,23 @@ struct LocomotionSettings {
   std::vector<bool> armJoint;           ///< nj; true for arm joints (their own weights)
   double nominalHeight = 0.85;          ///< base above the terrain, m
   double maxPositionLead = 0.15;        ///< commanded base position kept this close, m
+  /// Footholds are placed from the measured base moved towards the commanded one by at most
+  /// this (see update()): enough to walk a standing position error off, not a lead.
+  double footholdLead = 0.05;           ///< m
+  /// The commanded velocity slews towards the operator's at these rates (a step from standing
+  /// to 1.2 m/s is not a motion a biped can make); stopping decelerates the same way and the
+  /// gait stands once the slewed velocity is zero.
+  double maxAcceleration = 1.0;         ///< m/s², forward and lateral
+  double maxYawAcceleration = 1.5;      ///< rad/s²
+  /// Stepping goes on this long after the commanded velocity reached zero: the steps that take
+  /// out the velocity the body still carries (the slewed command stops before the robot does).
+  double stopDelay = 0.4;               ///< s
   gait::Gait walkGait{true, 0.8, 0.2, 0.0};
+  /// Walking from standing begins this long after it is asked for: the plan shifts the weight
+  /// onto the first stance foot in double support meanwhile (with none, the first swing left
+  /// 80 ms after the command, over a centre of mass still between the feet, and the robot fell
+  /// sideways into its first step). The commanded velocity starts slewing then too.
+  double walkStartDelay = 0.3;          ///< s
   gait::SwingPlannerParameters swing;
   CostWeights weights;
   mpc::ProblemSettings problem;         ///< weights are filled from `weights`
@@ -63,6 +96,10 @@ struct LocomotionCommand {
   double vx = 0.0, vy = 0.0, yawRate = 0.0;  ///< heading frame, m/s and rad/s
   double height = 0.0;                       ///< base above terrain, m; 0: nominal
   double roll = 0.0, pitch = 0.0, yaw = 0.0; ///< base orientation relative to the feet, rad
+  /// Standing: the joint posture (nj) that realises the pose with the feet where they are, as
+  /// the joints' reference (a pose the nominal posture contradicts is otherwise a compromise
+  /// between the base and joint weights). Empty: the nominal posture.
+  Eigen::VectorXd standingJoints;
 };
 
 class LocomotionPlanner {
@@ -83,11 +120,15 @@ class LocomotionPlanner {
   const LocomotionSettings& settings() const { return settings_; }
   /// The contact points' positions in the nominal stance, relative to the base (heading frame).
   const std::array<Eigen::Vector3d, kNumContacts>& nominalStance() const { return stance_; }
+  /// The velocity the plan follows now: the operator's, slewed (see maxAcceleration).
+  const gait::VelocityCommand& commandedVelocity() const { return velocity_; }
   /// The MPC state for (q, v): h = A(q)v, base position, ZYX angles (yaw continued from the
   /// previous call), joints.
   Eigen::VectorXd measuredState(const Eigen::VectorXd& q, const Eigen::VectorXd& v);
 
  private:
+  /// The operator's command with its velocity slewed to time t (advances velocity_).
+  LocomotionCommand slewed(double t, const LocomotionCommand& operatorCommand);
   /// The base reference at t (see the header comment); advances the commanded pose.
   gait::PlanarPose referenceStart(double t, const Eigen::VectorXd& x,
                                   const LocomotionCommand& command, double feetYaw);
@@ -109,6 +150,11 @@ class LocomotionPlanner {
   Eigen::Vector2d position_ = Eigen::Vector2d::Zero();  ///< commanded base x, y while walking
   double commandTime_ = 0.0;
   bool walking_ = false;
+  gait::VelocityCommand velocity_;  ///< the operator's, slewed
+  double velocityTime_ = -1.0;      ///< when velocity_ was last slewed
+  double walkStartsAt_ = 0.0;       ///< when the last start from standing takes its first step
+  bool accelerating_ = false;       ///< velocity_ is still slewing towards the operator's
+  double lastCommandedMotion_ = -1e9;  ///< last time velocity_ was not zero
 };
 
 /// Reads a Plan at the controller's rate (owns its scratch: one per reading thread).

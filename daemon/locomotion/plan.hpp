@@ -29,7 +29,7 @@ struct Plan {
   int nx = 0, nu = 0;
   double x[kMaxNodes + 1][kMaxState] = {};  ///< x_k = [h, p, zyx, q_j] (mpc)
   double u[kMaxNodes][kMaxInput] = {};      ///< u_k = [f_c (12), v_j]
-  gait::ContactSchedule schedule;
+  gait::ContactSchedule schedule{gait::Gait{}, 0.0};
   gait::SwingPlanner swings{gait::SwingPlannerParameters{}, {}};
   bool walking = false;
 };

@@ -13,7 +13,13 @@ NodeWorkspace::NodeWorkspace(const KinodynamicProblem& problem)
       xdot(problem.nx()),
       Ax(problem.nx(), problem.nx()),
       Bu(problem.nx(), problem.nu()),
-      contacts(kNumContacts, model::FrameKinematicsZyx(problem.nx(), problem.nu())) {}
+      xMid(problem.nx()),
+      contacts(kNumContacts, model::FrameKinematicsZyx(problem.nx(), problem.nu())),
+      dPosition_du(kNumContacts, model::Mat3X<double>(3, problem.nu())),
+      rowDx(3, problem.nx()),
+      rowDu(3, problem.nu()),
+      gradX(problem.nx()),
+      gradU(problem.nu()) {}
 
 KinodynamicProblem::KinodynamicProblem(const model::Model& model,
                                        const std::array<int, kNumContacts>& contactFrames,
@@ -60,9 +66,26 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
                                  LqNode* node, NodeValue& value) const {
   const CentroidalLayout L{model_.nj(), kNumContacts};
   const ProblemSettings& s = settings_;
-  model::centroidalDynamicsDerivatives(model_, ws.data, contactFrames_, x, u, ws.xdot, ws.Ax, ws.Bu);
+  const int nj = model_.nj();
+  // Everything that depends on the configuration is evaluated at the interval's joint midpoint
+  // x_mid = x + (dt/2)·[0; 0; v_j] (see the header); ∂x_mid/∂v_j = (dt/2)·I on the joints.
+  ws.xMid = x;
+  ws.xMid.segment(L.kJoints, nj).noalias() += 0.5 * dt * u.segment(L.jointVelocity(), nj);
+  model::centroidalDynamicsDerivatives(model_, ws.data, contactFrames_, ws.xMid, u, ws.xdot, ws.Ax,
+                                       ws.Bu);
   for (int c = 0; c < kNumContacts; ++c)
-    model::frameKinematicsZyx(model_, ws.data, contactFrames_[c], x, ws.Ax, ws.Bu, ws.contacts[c]);
+    model::frameKinematicsZyx(model_, ws.data, contactFrames_[c], ws.xMid, ws.Ax, ws.Bu,
+                              ws.contacts[c]);
+  // Chain rule through x_mid: ∂/∂v_j += (dt/2)·∂/∂q_j.
+  const double half = 0.5 * dt;
+  ws.Bu.middleCols(L.jointVelocity(), nj).noalias() += half * ws.Ax.middleCols(L.kJoints, nj);
+  for (int c = 0; c < kNumContacts; ++c) {
+    model::FrameKinematicsZyx& k = ws.contacts[c];
+    k.dVelocity_du.middleCols(L.jointVelocity(), nj).noalias() +=
+        half * k.dVelocity_dx.middleCols(L.kJoints, nj);
+    ws.dPosition_du[c].setZero();
+    ws.dPosition_du[c].middleCols(L.jointVelocity(), nj) = half * k.dPosition_dx.middleCols(L.kJoints, nj);
+  }
   value.xdot = ws.xdot;
 
   // Equalities: contact-point velocities (5 per foot) and swing forces.
@@ -90,15 +113,19 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
     for (int c : {toe, heel}) {
       const model::FrameKinematicsZyx& k = ws.contacts[c];
       Eigen::Vector3d residual = k.velocity;
-      model::Mat3X<double> dx = k.dVelocity_dx;
+      model::Mat3X<double>& dx = ws.rowDx;
+      model::Mat3X<double>& du = ws.rowDu;
+      dx = k.dVelocity_dx;
+      du = k.dVelocity_du;
       if (!ref.stance[c]) {  // v − (ṗ* + k_p (p* − p))
         residual -= ref.swingVelocity[c] + s.swingPositionGain * (ref.swingPosition[c] - k.position);
         dx += s.swingPositionGain * k.dPosition_dx;
+        du += s.swingPositionGain * ws.dPosition_du[c];
       }
       if (c == toe)
-        putRows({0, 1, 2}, residual, dx, k.dVelocity_du);
+        putRows({0, 1, 2}, residual, dx, du);
       else
-        putRows({(dropped + 1) % 3, (dropped + 2) % 3}, residual, dx, k.dVelocity_du);
+        putRows({(dropped + 1) % 3, (dropped + 2) % 3}, residual, dx, du);
     }
   }
   for (int c = 0; c < kNumContacts; ++c) {
@@ -175,9 +202,16 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
     const double h = diff.squaredNorm() - s.minFeetDistance * s.minFeetDistance;
     cost += dt * s.collisionBarrier.value(h);
     if (!node) continue;
-    const Eigen::RowVectorXd grad = 2.0 * diff.transpose() * (a.dPosition_dx - b.dPosition_dx);
-    node->q += dt * s.collisionBarrier.firstDerivative(h) * grad.transpose();
-    node->Q.noalias() += dt * s.collisionBarrier.secondDerivative(h) * grad.transpose() * grad;
+    // h depends on x and, through x_mid, on v_j: a Gauss-Newton term over (x, u).
+    ws.gradX.noalias() = 2.0 * (a.dPosition_dx - b.dPosition_dx).transpose() * diff;
+    ws.gradU.noalias() = 2.0 * (ws.dPosition_du[pair] - ws.dPosition_du[pair + 2]).transpose() * diff;
+    const double d1 = dt * s.collisionBarrier.firstDerivative(h);
+    const double d2 = dt * s.collisionBarrier.secondDerivative(h);
+    node->q += d1 * ws.gradX;
+    node->r += d1 * ws.gradU;
+    node->Q.noalias() += d2 * ws.gradX * ws.gradX.transpose();
+    node->S.noalias() += d2 * ws.gradU * ws.gradX.transpose();
+    node->R.noalias() += d2 * ws.gradU * ws.gradU.transpose();
   }
   value.cost = cost;
 }

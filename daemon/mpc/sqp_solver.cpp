@@ -1,5 +1,6 @@
 #include "mpc/sqp_solver.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -33,7 +34,9 @@ SqpSolver::SqpSolver(const OptimalControlProblem& problem, const SqpSettings& se
       uTrial_(u_),
       nodeCost_(settings.nodes + 1),
       nodeViolation2_(settings.nodes + 1),
-      projected_(settings.nodes) {
+      projected_(settings.nodes),
+      linearizeCpuMs_(pool_.threads()),
+      projectionCpuMs_(pool_.threads()) {
   for (int t = 0; t < pool_.threads(); ++t)
     workspaces_.push_back(problem.makeWorkspace());
   for (auto& r : references_) {
@@ -104,14 +107,28 @@ bool SqpSolver::iterate(double t0, const Eigen::VectorXd& xMeasured) {
 
   // Linearise and project every node (in parallel), then the terminal cost.
   auto t = Clock::now();
+  std::fill(linearizeCpuMs_.begin(), linearizeCpuMs_.end(), 0.0);
+  std::fill(projectionCpuMs_.begin(), projectionCpuMs_.end(), 0.0);
   auto linearize = [&](int k, int thread) {
+    const auto begin = Clock::now();
     problem_.linearize(*workspaces_[thread], references_[k], x_[k], u_[k], dt, lq_[k], values_[k]);
     lq_[k].b = x_[k] + dt * values_[k].xdot - x_[k + 1];
+    const auto linearized = Clock::now();
     projected_[k] = riccati_.project(k, lq_[k]);
+    linearizeCpuMs_[thread] += std::chrono::duration<double, std::milli>(linearized - begin).count();
+    projectionCpuMs_[thread] += msSince(linearized);
   };
   pool_.run(N, linearize);
   const double terminal = problem_.terminalCost(references_[N], x_[N], &lq_[N]);
-  stats_.linearizeMs = msSince(t);
+  const double wall = msSince(t);
+  double linearizeCpu = 0.0, projectionCpu = 0.0;
+  for (int i = 0; i < pool_.threads(); ++i) {
+    linearizeCpu += linearizeCpuMs_[i];
+    projectionCpu += projectionCpuMs_[i];
+  }
+  const double cpu = linearizeCpu + projectionCpu;
+  stats_.projectionMs = cpu > 0.0 ? wall * projectionCpu / cpu : 0.0;
+  stats_.linearizeMs = wall - stats_.projectionMs;
   Merit current{terminal, 0.0};
   for (int k = 0; k < N; ++k) {
     if (!projected_[k])

@@ -41,7 +41,10 @@ struct SqpSettings {
 };
 
 struct SqpStatistics {
-  double linearizeMs = 0.0;    ///< nodes linearised and projected (parallel)
+  /// Wall time of the parallel pass over the nodes, split between linearisation and the
+  /// projection of the equalities in proportion to the CPU time each took on the threads.
+  double linearizeMs = 0.0;
+  double projectionMs = 0.0;
   double riccatiMs = 0.0;
   double lineSearchMs = 0.0;
   double totalMs = 0.0;
@@ -88,6 +91,8 @@ class SqpSolver {
   std::vector<Eigen::VectorXd> x_, u_, xTrial_, uTrial_, dx_, du_;
   std::vector<double> nodeCost_, nodeViolation2_;
   std::vector<char> projected_;
+  /// Per thread: CPU time (ms) of this iteration spent linearising and projecting nodes.
+  std::vector<double> linearizeCpuMs_, projectionCpuMs_;
   MpcSolution solution_;
   bool hasSolution_ = false;
   SqpStatistics stats_;

@@ -3,10 +3,14 @@
 // median on 2 cores, with a 1 s horizon.
 #include <benchmark/benchmark.h>
 
+#include "control/settings.hpp"
+#include "locomotion/locomotion_planner.hpp"
 #include "model/algorithms.hpp"
+#include "model/base_conventions.hpp"
 #include "mpc/kinodynamic_problem.hpp"
 #include "mpc/riccati_solver.hpp"
 #include "mpc/sqp_solver.hpp"
+#include "profile/settings.hpp"
 
 namespace {
 
@@ -96,5 +100,73 @@ void BM_MpcRiccatiSweep(benchmark::State& st) {
   for (auto _ : st) benchmark::DoNotOptimize(riccati.sweep(nodes, dx0, dx, du));
 }
 BENCHMARK(BM_MpcRiccatiSweep)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+namespace {
+
+/// One real-time SQP iteration of the planner as ballastd runs it (sim-flat's settings: 1 s
+/// horizon, 20 ms nodes, both cores), from walking states: the robot walks at 1.0 m/s along its
+/// own plan (a perfect tracker), one planner period (10 ms) per benchmark iteration. The split
+/// is reported as counters (ms per iteration, averaged): linearisation and projection (the
+/// parallel pass over the nodes, its wall time split by the CPU time of each), Riccati sweep,
+/// line search.
+void BM_MpcIteration(benchmark::State& st) {
+  using namespace ballast;
+  const model::Model& m = robot();
+  const profile::Profile p =
+      profile::Profile::load(std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat.yaml");
+  const control::ControlSettings settings = profile::buildSettings(p, m);
+  const gait::FlatTerrain ground;
+  locomotion::LocomotionPlanner planner(m, settings.locomotion, ground);
+  locomotion::PlanSampler sampler(m, locomotion::contactFrameIds(m, settings.locomotion));
+  locomotion::Plan plan;
+  locomotion::PlanSample sample;
+  locomotion::LocomotionCommand command;
+  command.walk = true;
+  command.vx = 1.0;
+  Eigen::VectorXd q = model::neutralConfiguration(m), v = Eigen::VectorXd::Zero(m.nv);
+  q.tail(m.nj()) = settings.locomotion.nominalJoints;
+  q[2] = settings.locomotion.nominalHeight;
+  double t = 0.0;
+  auto follow = [&] {  // the state one planner period along the plan
+    t += 0.01;
+    sampler.sample(plan, t, sample);
+    const Eigen::Matrix3d R = model::rotationFromZyx<double>(sample.baseZyx);
+    q.head<3>() = sample.basePosition;
+    q.segment<4>(3) = model::quaternionXyzwFromRotation(R);
+    v.head<3>() = R.transpose() * sample.baseLinearVelocity;
+    v.segment<3>(3) = R.transpose() * sample.baseAngularVelocity;
+    for (int j = 0; j < m.nj(); ++j) {
+      q[7 + j] = sample.jointPositions[j];
+      v[6 + j] = sample.jointVelocities[j];
+    }
+  };
+  for (int i = 0; i < 200; ++i) {  // 2 s: up to speed, in the middle of the gait
+    planner.update(t, q, v, command, plan);
+    follow();
+  }
+  double linearize = 0, projection = 0, riccati = 0, lineSearch = 0;
+  int failures = 0;
+  for (auto _ : st) {
+    failures += !planner.update(t, q, v, command, plan);
+    st.PauseTiming();
+    const mpc::SqpStatistics& s = planner.statistics();
+    linearize += s.linearizeMs;
+    projection += s.projectionMs;
+    riccati += s.riccatiMs;
+    lineSearch += s.lineSearchMs;
+    follow();
+    st.ResumeTiming();
+  }
+  const double n = static_cast<double>(st.iterations());
+  st.counters["linearize_ms"] = linearize / n;
+  st.counters["projection_ms"] = projection / n;
+  st.counters["riccati_ms"] = riccati / n;
+  st.counters["line_search_ms"] = lineSearch / n;
+  st.counters["failures"] = failures;
+  st.counters["nodes"] = settings.locomotion.sqp.nodes;
+}
+BENCHMARK(BM_MpcIteration)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

@@ -25,7 +25,9 @@
 #include <vector>
 
 #include "backend/plugin_loader.hpp"
+#include "control/walking_controller.hpp"
 #include "model/algorithms.hpp"
+#include "test/integration/simulation_support.hpp"
 #include "wbc/whole_body_controller.hpp"
 
 namespace ballast::test {
@@ -70,32 +72,18 @@ struct BalanceFigures {
 BalanceFigures balanceRun(WbcVariant variant, double seconds, double motorKp, double motorKd) {
   const model::Model& m = humanoid();
   static const std::shared_ptr<backend::Plugin> plugin = backend::Plugin::load("simbody");
-  backend::BackendPtr sim = plugin->create();
-  const std::string urdf = std::string(BALLAST_SOURCE_DIR) + "/urdf/humanoid.urdf";
-  const char* const contacts[] = {"left_toe", "left_heel", "right_toe", "right_heel"};
-  backend::Config config;
-  config.section_yaml = "lidar: {enabled: false}\n";
-  config.section_origin = "balance_test:1";
-  config.urdf_path = urdf.c_str();
-  config.contact_frames = contacts;
-  config.num_contacts = 4;
-  config.period = 0.001;
-  config.lockstep = true;
-  config.seed = 4;
-  backend::Error error;
-  EXPECT_TRUE(sim->configure(config, error)) << error.message;
-  EXPECT_TRUE(sim->start(error)) << error.message;
+  backend::BackendPtr sim = test::startHumanoidSimulation(*plugin, "lidar: {enabled: false}\n",
+                                                          "balance_test:1", 4);
   const backend::Capabilities& caps = sim->capabilities();
   EXPECT_TRUE(caps.ground_truth);
 
   // Backend joint k <-> model joint modelJoint[k].
-  std::vector<int> modelJoint(caps.num_joints);
-  for (int k = 0; k < caps.num_joints; ++k) modelJoint[k] = m.jointId(caps.joint_names[k]);
+  const std::vector<int> modelJoint = test::modelJointOfBackendJoint(m, caps);
   EXPECT_EQ(caps.num_joints, m.nj());
 
   WbcSettings settings;
   settings.variant = variant;
-  settings.period = config.period;
+  settings.period = 0.001;  // the simulation's tick (startHumanoidSimulation)
   WholeBodyController wbc(m, settings);
   WbcState state = wbc.makeState();
   WbcReference ref = wbc.makeReference();
@@ -113,7 +101,7 @@ BalanceFigures balanceRun(WbcVariant variant, double seconds, double motorKp, do
   cmd.num_joints = caps.num_joints;
   BalanceFigures fig;
   double sumPos = 0, sumRot = 0, sumShoulder = 0, sumArm = 0;
-  const int ticks = static_cast<int>(std::lround(seconds / config.period));
+  const int ticks = static_cast<int>(std::lround(seconds / settings.period));
   EXPECT_EQ(sim->read(s), Status::kOk);
   Eigen::Vector3d basePosition0(s.truth.base_position);
   Eigen::Quaterniond baseOrientation0(s.truth.base_orientation[3], s.truth.base_orientation[0],
@@ -175,13 +163,7 @@ BalanceFigures balanceRun(WbcVariant variant, double seconds, double motorKp, do
     fig.failedTicks += status == WbcStatus::kDegraded || status == WbcStatus::kInvalidInput;
     cmd.time = t;
     for (int k = 0; k < caps.num_joints; ++k) {
-      const int j = modelJoint[k];
-      backend::JointCommand& c = cmd.joint[k];
-      c.tau_ff = out.jointTorque[j];
-      c.q_des = out.jointPositionTarget[j];
-      c.dq_des = out.jointVelocityTarget[j];
-      c.kp = motorKp;
-      c.kd = motorKd;
+      cmd.joint[k] = control::motorCommand(out, modelJoint[k], motorKp, motorKd);
     }
     EXPECT_EQ(sim->write(cmd), Status::kOk);
     const Status advanced = sim->advance();

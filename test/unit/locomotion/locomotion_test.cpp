@@ -157,3 +157,67 @@ TEST_F(Locomotion, WalksEvenWithoutStateFeedbackBetweenPlans) {
 
 }  // namespace
 }  // namespace ballast::locomotion
+
+namespace ballast::locomotion {
+namespace {
+
+TEST_F(Locomotion, FirstStepWaitsForTheWeightShift) {
+  // Asked to walk from standing, the plan keeps all four points down for walkStartDelay (plus
+  // the gait's first half double support), and the base is not asked to move before.
+  LocomotionPlanner planner(m, settings, ground);
+  const Eigen::VectorXd q = test::standingConfiguration(m), v = Eigen::VectorXd::Zero(m.nv);
+  Plan plan;
+  LocomotionCommand cmd;
+  cmd.walk = true;
+  cmd.vx = 1.0;
+  for (double t = 0.0; t < 0.2 + 1e-9; t += 0.01) ASSERT_TRUE(planner.update(t, q, v, cmd, plan));
+  EXPECT_EQ(planner.commandedVelocity().vx, 0.0);
+  const double firstLift =
+      settings.walkStartDelay + 0.5 * settings.walkGait.doubleSupport * settings.walkGait.period;
+  for (double t = 0.2; t < firstLift - 1e-3; t += 0.01)
+    EXPECT_EQ(gait::numStance(plan.schedule.flagsAt(t)), 4) << t;
+  EXPECT_EQ(gait::numStance(plan.schedule.flagsAt(firstLift + 0.01)), 2);
+  ASSERT_TRUE(planner.update(settings.walkStartDelay + 0.1, q, v, cmd, plan));
+  EXPECT_GT(planner.commandedVelocity().vx, 0.0);
+}
+
+TEST_F(Locomotion, SamplerInterpolatesInputsWithinAContactMode) {
+  // Joint velocities and forces change linearly between nodes of one contact mode (so the
+  // acceleration references the controller differentiates from them have no spikes), and hold
+  // over a node where the mode changes (touch-down, lift-off jump by design).
+  const CentroidalLayout L{m.nj(), 4};
+  Plan plan;
+  plan.nodes = 2;
+  plan.dt = 0.02;
+  plan.nx = L.nx();
+  plan.nu = L.nu();
+  const Eigen::VectorXd q = test::standingConfiguration(m);
+  Eigen::VectorXd x(L.nx());
+  x << Eigen::VectorXd::Zero(6), q.head<3>(), Eigen::Vector3d::Zero(), q.tail(m.nj());
+  for (int k = 0; k <= 2; ++k) Eigen::Map<Eigen::VectorXd>(plan.x[k], L.nx()) = x;
+  const int j = m.jointId("left_shoulder_pitch");
+  plan.u[0][L.jointVelocity() + j] = 1.0;
+  plan.u[1][L.jointVelocity() + j] = 3.0;
+  plan.u[0][L.force(2) + 2] = 100.0;
+  plan.u[1][L.force(2) + 2] = 300.0;
+  PlanSampler sampler(m, contactFrameIds(m, settings));
+  PlanSample s;
+
+  plan.t0 = 1.0;  // standing: one mode throughout
+  sampler.sample(plan, 1.005, s);
+  EXPECT_NEAR(s.jointVelocities[j], 1.5, 1e-12);
+  EXPECT_NEAR(s.contactForce[2].z(), 150.0, 1e-9);
+
+  // Walking from 0: the left foot lifts at doubleSupport/2 · period = 0.08 s. Node 0 at 0.07
+  // is double support, node 1 at 0.09 left swing.
+  plan.schedule = gait::ContactSchedule(settings.walkGait, 0.0);
+  plan.t0 = 0.07;
+  sampler.sample(plan, 0.075, s);
+  EXPECT_EQ(s.jointVelocities[j], 1.0);
+  EXPECT_EQ(s.contactForce[2].z(), 100.0);
+  sampler.sample(plan, 0.085, s);  // in the swing: the left points carry nothing
+  EXPECT_EQ(s.contactForce[0].norm() + s.contactForce[1].norm(), 0.0);
+}
+
+}  // namespace
+}  // namespace ballast::locomotion
