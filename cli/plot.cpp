@@ -115,8 +115,8 @@ std::string plotScript(const TelemetryTable& t, const std::string& data, const s
         {{"v_fwd", "estimate", est, false},
          {"true_v_fwd", "truth", tru, false},
          {"cmd_vx", "command", cmd, false}});
-  panel(g, t, data, "(b) limb tracking error", "RMS joint error (deg)",
-        {{"err_p2", "priority 2: limbs", est, true}});
+  panel(g, t, data, "(b) limb tracking error", "RMS joint error against the reference (deg)",
+        {{"limb_err", "all joints", est, true}});
   panel(g, t, data, "(c) height", "base height (m)",
         {{"z", "estimate", est, false},
          {"true_z", "truth", tru, false},

@@ -50,6 +50,7 @@ ControlLoop::ControlLoop(const model::Model& model, backend::Backend& backend,
       nj_(model.nj()),
       estimator_(model, settings),
       stand_(model, settings),
+      walking_(model, settings),
       commands_(options.command_capacity),
       replies_(options.command_capacity),
       events_(256),
@@ -157,20 +158,7 @@ void ControlLoop::tick() {
   modes_.update(t_);
   detectFall();
 
-  if (planner_.available() && planner_.due(t_)) {
-    planner_input_.t = t_;
-    planner_input_.mode = modes_.mode();
-    planner_input_.state = input_.state;
-    planner_input_.command = modes_.command();
-    if (!planner_.post(planner_input_))
-      raise(FaultKind::kPlanner, "the planner did not answer in time");
-  }
-  if (const PlannerOutput* p = planner_.available() ? planner_.latest() : nullptr) {
-    if (p->valid)
-      plan_ = p;
-    else
-      raise(FaultKind::kPlanner, "the planner returned no valid plan");
-  }
+  planPost();
 
   const Mode mode = shutting_down_ ? Mode::kDamp : modes_.mode();
   if (mode != last_mode_) {
@@ -180,18 +168,55 @@ void ControlLoop::tick() {
     event(false, line);
     last_mode_ = mode;
   }
+  const std::uint64_t controller_start = nowNs();
   computeCommands();
+  wbc_ms_ = secondsSince(controller_start) * 1e3;
   guardCommands();
   writeCommands();
 
-  wbc_ms_ = secondsSince(start) * 1e3;
   wbc_ms_max_ = std::max(wbc_ms_max_, wbc_ms_);
-  if (!options_.lockstep && wbc_ms_ > period_ * 1e3) ++overruns_;
+  // Lockstep waits for the planner inside the tick (simulated time stands still meanwhile).
+  if (!options_.lockstep && secondsSince(start) > period_) ++overruns_;
   updateTruth();
   record();
   publish();
   ++ticks_;
   backendStatus(backend_.advance(), "advance");
+}
+
+void ControlLoop::planPost() {
+  // The planner works in stand and walk; leaving them forgets the plan.
+  const Mode mode = modes_.mode();
+  const bool plan = planner_.available() && sensors_ok_ && !shutting_down_ &&
+                    (mode == Mode::kStand || mode == Mode::kWalk);
+  if (!plan) {
+    planning_ = false;
+    have_plan_ = false;
+    return;
+  }
+  if (!planning_ || planner_.due(t_)) {
+    planner_input_.t = t_;
+    planner_input_.mode = mode;
+    planner_input_.restart = !planning_;
+    planner_input_.state = input_.state;
+    planner_input_.command = modes_.command();
+    planning_ = true;
+    const bool answered = planner_.post(planner_input_);
+    if (planner_input_.restart) first_sequence_ = planner_input_.sequence;
+    if (!answered) raise(FaultKind::kPlanner, "the planner did not answer in time");
+  }
+  const PlannerOutput* p = planner_.latest();
+  // Nothing new, or an answer to an input from before the restart.
+  if (!p || p->sequence == plan_.sequence || p->sequence < first_sequence_) return;
+  if (!p->valid) {
+    std::snprintf(message_, sizeof(message_), "the planner returned no valid plan: %.150s",
+                  p->message);
+    raise(FaultKind::kPlanner, message_);
+    plan_.sequence = p->sequence;  // reported once
+    return;
+  }
+  plan_ = *p;  // a copy the planner cannot overwrite (about 80 kB, once per plan)
+  have_plan_ = true;
 }
 
 double ControlLoop::secondsSince(std::uint64_t start_ns) const {
@@ -236,12 +261,16 @@ void ControlLoop::readSensors() {
     raise(FaultKind::kNotANumber, "backend read(): the IMU reading is not a number");
     return;
   }
-  last_t_ = t_;
   t_ = sensors_.time;
-  double dt = t_ - last_t_;
-  if (ticks_ == 0 || !(dt > 0.0)) dt = period_;
-  estimator_.update(sensors_, q_, dq_, tau_, dt, input_.state);
-  sensors_ok_ = true;
+  // The contact schedule of the plan in force (standing: every point), flat terrain.
+  std::array<bool, kNumContacts> scheduled{true, true, true, true};
+  if (have_plan_) {
+    const gait::ContactFlags flags = plan_.plan.schedule.flagsAt(t_);
+    for (int c = 0; c < kNumContacts; ++c) scheduled[c] = flags[c];
+  }
+  std::array<double, kNumContacts> terrain;
+  terrain.fill(settings_->ground_height);
+  sensors_ok_ = estimator_.update(sensors_, q_, dq_, tau_, scheduled, terrain, input_.state);
 }
 
 void ControlLoop::handleCommands() {
@@ -295,8 +324,10 @@ void ControlLoop::applySettings(const ControlSettings* next, CommandReply& reply
   blend_start_ = t_;
   reply.retired = settings_;
   settings_ = next;
-  estimator_.setSettings(*next);
+  if (!estimator_.setSettings(*next))
+    event(true, "estimator: the new profile's frames differ; the estimator keeps the old ones");
   stand_.setSettings(*next);
+  walking_.setSettings(*next);
   modes_.configure(*next, stand_.nominalHeight());
   ++settings_generation_;
   std::snprintf(reply.message, sizeof(reply.message), "gains blend over %.2f s",
@@ -306,8 +337,11 @@ void ControlLoop::applySettings(const ControlSettings* next, CommandReply& reply
 void ControlLoop::detectFall() {
   if (!sensors_ok_) return;
   const ControlSettings& s = *settings_;
+  // In simulation the truth decides (a fall is a fact of the world, not of the estimate); on
+  // hardware the estimate.
   const BaseState& b = input_.state.base;
-  const model::Mat3<double> R = model::quaternionToRotation<double>(b.orientation);
+  const model::Mat3<double> R = model::quaternionToRotation<double>(
+      sensors_.has_truth ? sensors_.truth.base_orientation : b.orientation);
   const double tilt = std::acos(std::clamp(R(2, 2), -1.0, 1.0));
   double height = b.position[2] - s.ground_height;
   if (sensors_.has_truth) height = sensors_.truth.base_position[2] - s.ground_height;
@@ -357,8 +391,19 @@ void ControlLoop::computeCommands() {
   input_.t = t_;
   input_.stand_up_progress = modes_.standUpProgress(t_);
   input_.command = modes_.command();
-  input_.plan = plan_;
-  // stand-up, stand, walk: the standing controller (the whole-body controller takes this seat).
+  input_.plan = have_plan_ ? &plan_ : nullptr;
+  if ((mode == Mode::kStand || mode == Mode::kWalk) && walking_.ready(input_.plan)) {
+    const wbc::WbcStatus status = walking_.compute(input_, output_);
+    if (status == wbc::WbcStatus::kInvalidInput) {
+      raise(FaultKind::kNotANumber,
+            "whole-body controller: the state or the plan is not a number; damping instead");
+      dampOutput(nj_, q, s.damping, output_);
+    } else if (status == wbc::WbcStatus::kDegraded) {
+      ++wbc_degraded_;
+    }
+    return;
+  }
+  // stand-up, and stand before the first plan: the standing controller.
   stand_.compute(input_, kp_.data(), kd_.data(), period_, output_);
 }
 
@@ -399,7 +444,8 @@ void ControlLoop::publish() {
   p.truth_non_foot_contact = sensors_.has_truth && sensors_.truth.non_foot_contact;
   p.command = modes_.command();
   for (int c = 0; c < kNumContacts; ++c) p.contacts[c] = input_.state.contact[c];
-  p.mpc_ms = plan_ ? plan_->solve_ms : 0.0;
+  p.mpc_ms = have_plan_ ? plan_.solve_ms : 0.0;
+  p.wbc_degraded_ticks = wbc_degraded_;
   p.wbc_ms = wbc_ms_;
   p.wbc_ms_max = wbc_ms_max_;
   p.tick_overruns = overruns_;
@@ -440,7 +486,7 @@ void ControlLoop::record() {
   f.command = modes_.command();
   for (int c = 0; c < kNumContacts; ++c) f.contact[c] = input_.state.contact[c];
   for (int i = 0; i < kNumPriorityLevels; ++i) f.task_error[i] = output_.task_error[i];
-  f.mpc_ms = plan_ ? plan_->solve_ms : 0.0;
+  f.mpc_ms = have_plan_ ? plan_.solve_ms : 0.0;
   f.wbc_ms = wbc_ms_;
   f.num_joints = nj_;
   for (int j = 0; j < nj_; ++j) {

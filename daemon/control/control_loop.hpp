@@ -3,6 +3,10 @@
 //   read sensors -> estimate -> operator commands -> modes, safety -> planner post
 //   -> controller -> NaN guard -> write commands -> publish status, telemetry -> advance
 //
+// Controllers: passive (free joints), damp, stand-up (StandController's joint PD to the
+// posture), stand and walk (WalkingController: the plan through the whole-body controller, once
+// a plan exists; the StandController until then). The planner is fed in stand and walk only.
+//
 // It talks to the other threads only through lock-free structures sized at construction:
 // commands arrive in an SPSC ring from the IO thread, replies and log events leave in two
 // more, the status is published through a seqlock, telemetry frames through a ring the writer
@@ -20,7 +24,7 @@
 #include <atomic>
 #include <memory>
 
-#include "control/leg_odometry.hpp"
+#include "control/loop_estimator.hpp"
 #include "control/mode_machine.hpp"
 #include "control/planner_slot.hpp"
 #include "control/seqlock.hpp"
@@ -28,6 +32,7 @@
 #include "control/spsc_ring.hpp"
 #include "control/stand_controller.hpp"
 #include "control/telemetry.hpp"
+#include "control/walking_controller.hpp"
 #include "model/model.hpp"
 
 namespace ballast::control {
@@ -79,6 +84,7 @@ class ControlLoop {
   void handleCommands();
   void applySettings(const ControlSettings* next, CommandReply& reply);
   void detectFall();
+  void planPost();
   void computeCommands();
   void guardCommands();
   void writeCommands();
@@ -99,11 +105,17 @@ class ControlLoop {
   std::vector<std::string> joint_names_;
   std::array<int, kMaxJoints> backend_index_{};  // model joint -> backend joint
 
-  LegOdometry estimator_;
+  LoopEstimator estimator_;
   StandController stand_;
+  WalkingController walking_;
   ModeMachine modes_;
   PlannerSlot planner_;
-  const PlannerOutput* plan_ = nullptr;
+  /// The last valid plan, the loop's own copy (the planner's buffers turn over underneath).
+  PlannerOutput plan_;
+  bool have_plan_ = false;
+  bool planning_ = false;  // inputs are being posted (stand, walk)
+  std::uint64_t first_sequence_ = 0;  // of the input that restarted planning
+  std::uint64_t wbc_degraded_ = 0;
 
   SpscRing<OperatorCommand> commands_;
   SpscRing<CommandReply> replies_;
@@ -132,7 +144,7 @@ class ControlLoop {
   Mode last_mode_ = Mode::kPassive;
   std::uint64_t ticks_ = 0, last_sequence_ = 0, overruns_ = 0, dropped_ = 0, recorded_ = 0;
   std::uint64_t settings_generation_ = 0;
-  double t_ = 0.0, last_t_ = 0.0, period_ = 0.001;
+  double t_ = 0.0, period_ = 0.001;
   double wbc_ms_ = 0.0, wbc_ms_max_ = 0.0;
   char message_[kMessageLength] = {};
 };

@@ -167,8 +167,8 @@ Refusal ModeMachine::handle(const OperatorCommand& c, double t, const Situation&
     case CommandKind::kWalk:
       if (!situation.planner_available)
         return refuse(Refusal::kUnavailable,
-                      "walking needs the planner (not built yet): the robot keeps standing; "
-                      "use `ballast pose` to move the base in place");
+                      "walking needs the planner and this ballastd runs without one: the robot "
+                      "keeps standing; use `ballast pose` to move the base in place");
       if (mode_ == Mode::kDamp) return refuseDamped("stand");
       if (mode_ != Mode::kStand && mode_ != Mode::kWalk)
         return refuse(Refusal::kRefused,

@@ -30,6 +30,8 @@ class Planner {
 
 class PlannerSlot {
  public:
+  /// Controller times this close count as equal (they are sums of periods, with rounding).
+  static constexpr double kTimeTolerance = 1e-6;
   PlannerSlot() { sem_init(&wake_, 0, 0); }
   ~PlannerSlot();
   PlannerSlot(const PlannerSlot&) = delete;
@@ -42,7 +44,7 @@ class PlannerSlot {
 
   // Loop side.
   /// True when a new input is due at controller time t.
-  bool due(double t) const { return available() && t >= next_due_; }
+  bool due(double t) const { return available() && t + kTimeTolerance >= next_due_; }
   /// Posts an input (stamps its sequence) and, if synchronous, waits for the answer (at most
   /// timeout_s of wall time; false if it did not come).
   bool post(PlannerInput& input, double timeout_s = 2.0);

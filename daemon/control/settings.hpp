@@ -5,9 +5,13 @@
 #pragma once
 
 #include <array>
+#include <memory>
 #include <string>
 
 #include "control/types.hpp"
+#include "estimation/settings.hpp"
+#include "locomotion/locomotion_planner.hpp"
+#include "wbc/whole_body_controller.hpp"
 
 namespace ballast::control {
 
@@ -31,9 +35,9 @@ struct ControlSettings {
   std::string imu_frame = "imu";
 
   // estimator
-  bool use_truth = false;        ///< control on the simulator's ground truth (diagnostics)
-  double contact_height = 0.02;  ///< m above the lowest contact point that still counts as contact
-  double ground_height = 0.0;    ///< m, terrain under the robot at start
+  bool use_truth = false;      ///< control on the simulator's ground truth (diagnostics)
+  double ground_height = 0.0;  ///< m, terrain under the robot at start
+  estimation::EstimatorSettings estimator;
 
   // safety
   double damping = 4.0;           ///< N·m·s/rad in damp
@@ -46,8 +50,16 @@ struct ControlSettings {
   double max_pose_tilt = 0.35, max_pose_yaw = 0.35;     ///< rad
   double max_push_force = 300.0, max_push_duration = 5.0;
 
+  // whole-body controller (stand and walk once a plan exists). Built with the settings on the
+  // IO side, so a profile switch hands the loop a ready controller and nothing is allocated on
+  // the loop's thread; freed with the settings when they are retired. nullptr: none (the
+  // standing controller alone).
+  std::shared_ptr<wbc::WholeBodyController> wbc;
+  double wbc_motor_kp = 20.0, wbc_motor_kd = 2.0;  ///< motor PD around the WBC's targets
+
   // planner, telemetry
   double planner_rate = 100.0;  ///< Hz
+  locomotion::LocomotionSettings locomotion;  ///< the planner thread copies it (MpcPlanner)
   int telemetry_decimation = 1;
 };
 

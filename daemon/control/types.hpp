@@ -15,6 +15,7 @@
 #include <limits>
 
 #include "backend_abi.hpp"
+#include "locomotion/plan.hpp"
 
 namespace ballast::control {
 
@@ -60,12 +61,15 @@ struct BaseCommand {
   double roll = 0.0, pitch = 0.0, yaw = 0.0;  ///< base orientation relative to the feet, rad
 };
 
-/// Planner slot. The kino-dynamic MPC (daemon/mpc, daemon/gait) fills PlannerOutput; until it
-/// exists the slot is empty and `walk` is refused.
+/// Planner slot: the kino-dynamic MPC (control/mpc_planner.hpp) fills PlannerOutput. Without a
+/// planner the slot is empty and `walk` is refused.
 struct PlannerInput {
   std::uint64_t sequence = 0;
   double t = 0.0;
   Mode mode = Mode::kPassive;
+  /// First input after a time without planning (start, or back from damp/passive): the planner
+  /// forgets its previous solution and gait phase.
+  bool restart = false;
   EstimatedState state;
   BaseCommand command;
 };
@@ -74,8 +78,10 @@ struct PlannerOutput {
   double t = 0.0;              ///< controller time the plan starts at
   bool valid = false;          ///< false: solver failure or NaN; the loop keeps the last valid plan
   double solve_ms = 0.0;
-  // The planner adds its optimal state and input trajectories x*(t), u*(t) and the contact
-  // schedule here (fixed-size arrays).
+  char message[kMessageLength] = {};  ///< why it is not valid
+  /// The MPC's optimal state and input trajectories x*(t), u*(t), the contact schedule and the
+  /// swing trajectories.
+  locomotion::Plan plan;
 };
 
 struct ControllerInput {
@@ -141,9 +147,10 @@ struct LoopStatus {
   BaseCommand command;
   bool contacts[kNumContacts] = {};
   double mpc_ms = 0.0;      ///< last planner solve
-  double wbc_ms = 0.0;      ///< last controller computation (read to write)
+  double wbc_ms = 0.0;      ///< last controller computation (plan sampling + WBC, or standing)
   double wbc_ms_max = 0.0;  ///< since start
   std::uint64_t tick_overruns = 0;
+  std::uint64_t wbc_degraded_ticks = 0;  ///< ticks the WBC dropped lower priorities (QP failed)
   FaultList faults;
   std::uint64_t telemetry_frames = 0;
   std::uint64_t telemetry_dropped = 0;

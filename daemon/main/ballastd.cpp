@@ -26,7 +26,9 @@
 
 #include "backend/plugin_loader.hpp"
 #include "control/control_loop.hpp"
+#include "control/mpc_planner.hpp"
 #include "control/telemetry.hpp"
+#include "gait/terrain_query.hpp"
 #include "profile/profile.hpp"
 #include "profile/schema.hpp"
 #include "profile/settings.hpp"
@@ -161,7 +163,17 @@ int main(int argc, char** argv) {
   ctx.backend_name = caps.name;
   ctx.simulation = caps.simulation;
 
-  // ---- 4. control loop, telemetry
+  // ---- 4. planner, control loop, telemetry
+  // The planner's terrain: a flat floor at terrain.ground_height (the map-backed terrain
+  // query comes with daemon/terrain).
+  const gait::FlatTerrain ground(prof.number("terrain.ground_height"));
+  std::unique_ptr<control::MpcPlanner> planner;
+  try {
+    planner = std::make_unique<control::MpcPlanner>(*model, *ctx.settings, ground);
+  } catch (const std::exception& e) {
+    backend->stop();
+    return startupError(std::string("planner: ") + e.what());
+  }
   control::LoopOptions options;
   options.lockstep = lockstep;
   options.telemetry_capacity = static_cast<std::size_t>(prof.integer("telemetry.ring_frames"));
@@ -182,7 +194,8 @@ int main(int argc, char** argv) {
       return startupError(prof.problem("telemetry.record_on_start", why));
     }
   }
-  loop->attachPlanner(nullptr);  // the MPC planner takes this seat (daemon/mpc)
+  loop->attachPlanner(planner.get());
+  ctx.planner = planner.get();
   ctx.model = model.get();
   ctx.loop = loop.get();
   ctx.writer = &writer;

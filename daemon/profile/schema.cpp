@@ -2,7 +2,10 @@
 #include "profile/schema.hpp"
 
 #include <algorithm>
+#include <deque>
 #include <sstream>
+
+#include "estimation/settings.hpp"
 
 namespace ballast::profile {
 
@@ -53,7 +56,7 @@ constexpr Key groupMap(const char* n, const char* def, const char* doc) {
 }
 
 // clang-format off
-const std::vector<Key> kSchema = {
+const std::vector<Key> kTable = {
   // ---- the profile itself
   text("extends", "", "base profile: a file (relative to this one) or a profile name; maps merge, scalars and lists replace"),
   text("description", "", "one line about the profile, shown by `ballast profile list`"),
@@ -81,30 +84,43 @@ const std::vector<Key> kSchema = {
   paths("backend.plugin_dirs", "[]", "directories searched first for the plugin; then $BALLAST_PLUGIN_PATH, the build tree, the install tree").needsRestart(),
   integer("backend.seed", "0", 0, 9007199254740992.0, "", "seed for sensor noise and anything random in the backend").needsRestart(),
 
-  // ---- gait (daemon/gait)
+  // ---- gait (daemon/gait; locomotion/locomotion_planner.hpp LocomotionSettings)
   number("gait.period", "0.8", 0.2, 2, "s", "gait cycle: one step of each leg"),
   number("gait.double_support", "0.2", 0, 0.8, "", "fraction of the cycle with both feet on the ground"),
+  number("gait.toe_off_lead", "0", 0, 0.5, "s", "toe-off and heel-strike: a heel lifts and lands this much before its toe (0: together)"),
   number("gait.swing_apex", "0.08", 0.01, 0.3, "m", "swing-foot clearance at mid-swing, above the terrain"),
   number("gait.foothold_gain", "0.15", 0, 1, "", "k of the foothold rule hip + T/2 v_des + k (v - v_des)"),
-  number("gait.step_width", "0.2", 0.05, 0.6, "m", "lateral distance between the feet"),
-  number("gait.toe_off_lead", "0", 0, 0.5, "s", "toe-off and heel-strike: a heel lifts and lands this much before its toe (0: together)"),
+  number("gait.replan_until", "0.7", 0, 1, "", "fraction of a swing after which its touch-down point is held"),
+  number("gait.min_foot_distance", "0.12", 0, 1, "m", "closest the left and right contact points may come (swing planning and the MPC's collision constraint)"),
+  number("gait.walk_start_delay", "0.3", 0, 2, "s", "walking from standing starts this much after the command: the weight shifts onto the first stance foot meanwhile"),
+  number("gait.stop_delay", "0.4", 0, 2, "s", "stepping goes on this long after the commanded velocity reached zero"),
+  number("gait.foothold_lead", "0.05", 0, 0.5, "m", "footholds are planned from the measured base moved toward the commanded one by at most this"),
 
-  // ---- planner: the kino-dynamic MPC (daemon/mpc)
+  // ---- planner: the kino-dynamic MPC (daemon/mpc, daemon/locomotion)
   number("planner.rate", "100", 10, 1000, "Hz", "planner rate, controller time").needsRestart(),
-  number("planner.horizon", "1", 0.1, 5, "s", "MPC horizon"),
+  number("planner.horizon", "1", 0.1, 5, "s", "MPC horizon (at most 100 nodes)"),
   number("planner.dt", "0.02", 0.002, 0.2, "s", "MPC node spacing"),
-  integer("planner.sqp_iterations", "1", 1, 20, "", "SQP iterations per call (1: real-time iteration)"),
-  numbers("planner.q_momentum", "[15, 15, 30, 10, 10, 10]", 0, 1e6, "", "Q: centroidal momentum, [linear x y z, angular x y z]").ofLength(6),
-  numbers("planner.q_base", "[500, 500, 500, 100, 200, 200]", 0, 1e6, "", "Q: base pose, [x y z, yaw pitch roll]").ofLength(6),
-  numberMap("planner.q_joints", "{}", 0, 1e6, "", "Q: joint positions, per joint group"),
-  number("planner.r_forces", "0.001", 0, 1e6, "", "R: contact forces"),
-  numberMap("planner.r_joint_velocities", "{}", 0, 1e6, "", "R: joint velocities, per joint group"),
-  number("planner.barrier_mu", "0.1", 1e-6, 1e3, "", "relaxed log barrier weight (paper: xi)"),
-  number("planner.barrier_delta", "0.005", 1e-6, 1, "", "relaxed log barrier threshold (paper: delta)"),
+  integer("planner.threads", "2", 1, 16, "", "threads that linearise the MPC's nodes"),
+  number("planner.max_acceleration", "1", 0.05, 10, "m/s^2", "the commanded velocity slews toward the operator's at this rate"),
+  number("planner.max_yaw_acceleration", "1.5", 0.05, 20, "rad/s^2", "the commanded yaw rate slews toward the operator's at this rate"),
+  number("planner.max_position_lead", "0.15", 0.01, 1, "m", "walking: the commanded base position is kept this close to the measured one"),
+  number("planner.q_linear_velocity", "40", 0, 1e6, "(m/s)^-2", "Q: centroidal linear momentum / mass against the commanded velocity"),
+  number("planner.q_angular_momentum", "1", 0, 1e6, "(m^2/s)^-2", "Q: centroidal angular momentum / mass"),
+  numbers("planner.q_base_position", "[200, 200, 800]", 0, 1e6, "m^-2", "Q: base position, [x y z]").ofLength(3),
+  numbers("planner.q_base_orientation", "[300, 800, 800]", 0, 1e6, "rad^-2", "Q: base orientation, [yaw pitch roll]").ofLength(3),
+  number("planner.q_leg_joints", "5", 0, 1e6, "rad^-2", "Q: joint positions against the nominal posture, joints other than wbc.joint_space_joints"),
+  number("planner.q_arm_joints", "5", 0, 1e6, "rad^-2", "Q: joint positions against the nominal posture, wbc.joint_space_joints (the arms)"),
+  number("planner.r_forces", "0.001", 0, 1e6, "N^-2", "R: contact forces against the weight shared by the stance points"),
+  number("planner.r_leg_joint_velocities", "0.5", 0, 1e6, "(rad/s)^-2", "R: joint velocities, joints other than wbc.joint_space_joints (small values let the plan chatter)"),
+  number("planner.r_arm_joint_velocities", "1", 0, 1e6, "(rad/s)^-2", "R: joint velocities, wbc.joint_space_joints (larger values freeze the arm swing)"),
+  number("planner.terminal_weight_scale", "5", 0, 1e6, "", "Q at the last node = this times Q"),
+  numbers("planner.friction_barrier", "[0.1, 5]", 1e-9, 1e6, "", "relaxed log barrier of the friction cone and normal force bounds, [weight (paper: xi), delta in N]").ofLength(2),
+  numbers("planner.limit_barrier", "[0.1, 0.02]", 1e-9, 1e6, "", "relaxed log barrier of the joint position and velocity limits, [weight, delta in rad or rad/s]").ofLength(2),
   number("planner.friction_coefficient", "0.6", 0.05, 2, "", "friction cone coefficient"),
   number("planner.min_normal_force", "0", 0, 1e4, "N", "lower bound of a stance contact's normal force"),
   number("planner.max_normal_force", "1000", 1, 1e5, "N", "upper bound of a contact's normal force"),
-  number("planner.min_foot_distance", "0.12", 0, 1, "m", "closest the feet may come (collision constraint)"),
+  number("planner.joint_limit_margin", "0.05", 0, 0.5, "rad", "kept from each URDF joint limit"),
+  number("planner.swing_position_gain", "20", 0, 1e3, "1/s", "swing contact points: velocity = reference velocity + this gain times the position error"),
 
   // ---- wbc: the whole-body controller (daemon/wbc; wbc/settings.hpp)
   choice("wbc.variant", "hierarchical", "hierarchical|weighted", "strict priorities (the paper's cH) or one weighted QP (cNH)"),
@@ -123,16 +139,13 @@ const std::vector<Key> kSchema = {
   number("wbc.contact_force_weight", "0.001", 0, 1e9, "", "weighted variant: weight of the contact-force task"),
   number("wbc.regularization", "1e-8", 1e-15, 0.01, "", "added to the diagonal of every level's Hessian (scaled units)"),
   integer("wbc.max_qp_iterations", "200", 1, 100000, "", "active-set iterations per QP before it gives up"),
+  number("wbc.motor_kp", "20", 0, 5000, "N·m/rad", "stand and walk under the whole-body controller: the motors' PD stiffness around its joint targets (its torques do the work)"),
+  number("wbc.motor_kd", "2", 0, 500, "N·m·s/rad", "the motors' PD damping under the whole-body controller"),
 
   // ---- estimator (daemon/estimation)
   choice("estimator.source", "estimate", "estimate|truth", "what the controllers run on: the estimate, or the simulator's ground truth (diagnostics)").needsRestart(),
-  number("estimator.contact_height", "0.02", 0.001, 0.2, "m", "contact points within this height of the lowest one count as in contact"),
-  number("estimator.imu_acceleration_noise", "0.1", 0, 100, "m/s^2", "IMU accelerometer noise (standard deviation)"),
-  number("estimator.imu_gyro_noise", "0.01", 0, 10, "rad/s", "IMU gyroscope noise (standard deviation)"),
-  number("estimator.kinematics_position_noise", "0.005", 0, 1, "m", "leg kinematics: contact position noise"),
-  number("estimator.kinematics_velocity_noise", "0.05", 0, 10, "m/s", "leg kinematics: contact velocity noise"),
-  number("estimator.swing_noise_scale", "1000", 1, 1e9, "", "noise multiplier for contact points in swing"),
-  number("estimator.contact_force_threshold", "30", 0, 1e4, "N", "estimated normal force that confirms a scheduled contact"),
+  flag("estimator.contact_force_check", "true", "a scheduled contact counts only once the estimated normal force confirms it (estimator.contact_force_threshold)"),
+  // The filter's number keys follow, generated from estimation::estimatorNumberKeys().
 
   // ---- terrain
   path("terrain.map", "", "OctoMap file (.bt or .ot) of the terrain for the planner; the simulation builds its world from it at start (a profile switch changes the planner's map only); empty: a flat floor"),
@@ -170,6 +183,29 @@ const std::vector<Key> kSchema = {
   number("server.reply_timeout", "2", 0.1, 60, "s", "wall time a request waits for the control loop before a timeout error"),
 };
 // clang-format on
+
+/// The table with the estimator's number keys (declared once, in estimation/settings.cpp, with
+/// their bounds; the defaults are EstimatorSettings' initialisers) after estimator.source.
+std::vector<Key> withEstimatorKeys(std::vector<Key> table) {
+  static std::deque<std::string> text;  // names and defaults the rows point into
+  const estimation::EstimatorSettings defaults;
+  std::vector<Key> rows;
+  for (const estimation::EstimatorNumberKey& k : estimation::estimatorNumberKeys()) {
+    text.push_back(std::string("estimator.") + k.key);
+    const char* name = text.back().c_str();
+    std::ostringstream value;
+    value << defaults.*k.field;
+    text.push_back(value.str());
+    rows.push_back({name, KeyType::kNumber, text.back().c_str(), k.min, k.max, k.unit, k.doc});
+  }
+  auto at = std::find_if(table.begin(), table.end(),
+                         [](const Key& k) { return std::string(k.name) == "estimator.source"; });
+  table.insert(at + 1, rows.begin(), rows.end());
+  return table;
+}
+
+const std::vector<Key> kSchema = withEstimatorKeys(kTable);
+
 
 }  // namespace
 

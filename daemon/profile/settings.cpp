@@ -5,6 +5,8 @@
 #include <sstream>
 
 #include "control/stand_posture.hpp"
+#include "profile/locomotion_settings.hpp"
+#include "profile/wbc_settings.hpp"
 #include "model/urdf_loader.hpp"
 
 namespace ballast::profile {
@@ -98,8 +100,6 @@ control::ControlSettings buildSettings(const Profile& p, const model::Model& mod
   };
   const auto kp = checkGroups("control.joint_kp", true);
   const auto kd = checkGroups("control.joint_kd", true);
-  checkGroups("planner.q_joints", false);
-  checkGroups("planner.r_joint_velocities", false);
   for (int j = 0; j < nj; ++j) {
     if (const auto it = kp.find(groupOf[j]); it != kp.end()) s.kp[j] = it->second;
     if (const auto it = kd.find(groupOf[j]); it != kd.end()) s.kd[j] = it->second;
@@ -117,7 +117,12 @@ control::ControlSettings buildSettings(const Profile& p, const model::Model& mod
 
   // estimator, terrain
   s.use_truth = p.text("estimator.source") == "truth";
-  s.contact_height = p.number("estimator.contact_height");
+  s.estimator.imuFrame = s.imu_frame;
+  for (int c = 0; c < control::kNumContacts; ++c) s.estimator.contactFrames[c] = s.contact_frames[c];
+  s.estimator.period = 1.0 / p.number("control.rate");
+  s.estimator.contactForceCheck = p.flag("estimator.contact_force_check");
+  for (const estimation::EstimatorNumberKey& k : estimation::estimatorNumberKeys())
+    s.estimator.*k.field = p.number(std::string("estimator.") + k.key);
   s.ground_height = p.number("terrain.ground_height");
 
   // safety
@@ -145,6 +150,10 @@ control::ControlSettings buildSettings(const Profile& p, const model::Model& mod
   s.planner_rate = p.number("planner.rate");
   if (p.number("planner.dt") >= p.number("planner.horizon"))
     problems.push_back(p.problem("planner.dt", "must be shorter than planner.horizon"));
+  else if (p.number("planner.horizon") / p.number("planner.dt") > locomotion::kMaxNodes + 0.5)
+    problems.push_back(p.problem("planner.dt", "planner.horizon / planner.dt is more than " +
+                                                   std::to_string(locomotion::kMaxNodes) +
+                                                   " nodes: make dt longer"));
   if (p.number("planner.min_normal_force") >= p.number("planner.max_normal_force"))
     problems.push_back(
         p.problem("planner.min_normal_force", "must be below planner.max_normal_force"));
@@ -167,6 +176,20 @@ control::ControlSettings buildSettings(const Profile& p, const model::Model& mod
     }
   }
   if (!problems.empty()) throw ProfileError(problems);
+
+  // The estimator, the whole-body controller and the planner (their own checks, located at
+  // the keys they name).
+  if (const std::string why = estimation::validateSettings(s.estimator, model); !why.empty()) {
+    std::string key = why.substr(0, why.find_first_of(":["));
+    if (!findKey(key)) key = "estimator.source";
+    throw ProfileError({p.problem(key, why.substr(why.find(':') + 2))});
+  }
+  const wbc::WbcSettings wbc = wbcSettings(p, model);
+  s.wbc = std::make_shared<wbc::WholeBodyController>(model, wbc);
+  s.wbc_motor_kp = p.number("wbc.motor_kp");
+  s.wbc_motor_kd = p.number("wbc.motor_kd");
+  s.locomotion =
+      locomotionSettings(p, model, s, wbc, control::StandPosture(model, s).nominalHeight());
   return s;
 }
 

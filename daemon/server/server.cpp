@@ -730,6 +730,7 @@ void Server::onLoopReplies() {
       if (ok) {
         delete r.retired;
         ctx_.settings = p.settings;
+        if (ctx_.planner) ctx_.planner->requestSettings(*p.settings);
         if (p.map) ctx_.map = std::move(*p.map);
         spdlog::info("profile {} in force ({})", p.profile->name(), r.message);
         ctx_.profile = std::move(p.profile);

@@ -25,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "control/control_loop.hpp"
+#include "control/mpc_planner.hpp"
 #include "control/telemetry.hpp"
 #include "profile/profile.hpp"
 #include "server/status_json.hpp"
@@ -49,6 +50,7 @@ ServerConfig serverConfig(const profile::Profile& profile, const std::string& so
 struct DaemonContext {
   const model::Model* model = nullptr;
   control::ControlLoop* loop = nullptr;
+  control::MpcPlanner* planner = nullptr;  ///< gets the planner settings of a profile switch
   control::TelemetryWriter* writer = nullptr;
   std::unique_ptr<profile::Profile> profile;           ///< the running profile
   const control::ControlSettings* settings = nullptr;  ///< the loop's; freed when retired

@@ -72,3 +72,8 @@ stop_daemon() {
   DAEMON_PID=
   [ ! -e "$SOCKET" ] || fail "the socket was left behind"
 }
+
+# calc EXPRESSION: awk arithmetic on numbers (prints the result)
+calc() { awk "BEGIN { print $1 }"; }
+# within VALUE TARGET FRACTION: |value - target| <= fraction * |target|
+within() { awk -v a="$1" -v b="$2" -v f="$3" 'BEGIN { d = a - b; if (d < 0) d = -d; t = b < 0 ? -b : b; exit !(d <= f * t) }'; }

@@ -56,7 +56,7 @@ TEST_F(Verbs, StatusJsonCarriesTheDesignFields) {
   ASSERT_TRUE(s.contains("truth"));  // a simulation backend
   EXPECT_EQ(s["truth"]["base"]["position"].size(), 3u);
   // Standing: all four contact points down, near the nominal height.
-  for (const auto& c : s["contacts"]) EXPECT_TRUE(c.get<bool>());
+  for (const auto& c : s["contacts"]) EXPECT_TRUE(c.get<bool>()) << s.dump();
   EXPECT_NEAR(s["base"]["position"][2].get<double>(), 0.89, 0.03);
 }
 
@@ -88,19 +88,27 @@ TEST_F(Verbs, StatusHumanGetAndWatch) {
   EXPECT_NE(r.out.find("mode"), std::string::npos);
 }
 
-TEST_F(Verbs, StandStopAndWalkWithoutPlanner) {
+TEST_F(Verbs, StandWalkAndStop) {
   Outcome r = cli({"stand"});
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("mode stand"), std::string::npos);
+  const double x0 = daemon_->status()["truth"]["base"]["position"][0].get<double>();
+  r = cli({"walk", "--vx", "0.4", "--for", "3s"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("mode walk"), std::string::npos) << r.out;
+  EXPECT_TRUE(daemon_->waitFor([&](const json& s) {
+    return s["truth"]["base"]["position"][0].get<double>() > x0 + 0.3;
+  })) << daemon_->status().dump();
   r = cli({"stop"});
   EXPECT_EQ(r.status, 0) << r.err;
-  r = cli({"walk", "--vx", "0.5", "--for", "2s"});
+  EXPECT_TRUE(daemon_->waitFor([](const json& s) {
+    return s["mode"] == "stand" && std::abs(s["truth"]["base"]["velocity"][0].get<double>()) < 0.05;
+  })) << daemon_->status().dump();
+  EXPECT_FALSE(daemon_->status()["fallen"].get<bool>());
+  // Beyond the profile's safety.max_vx: refused, the robot keeps standing.
+  r = cli({"--json", "walk", "--vx", "5"});
   EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.err.find("unavailable: walking needs the planner (not built yet)"), std::string::npos)
-      << r.err;
-  r = cli({"--json", "walk", "--vx", "0.5"});
-  EXPECT_EQ(r.status, 1);
-  EXPECT_EQ(r.parsed()["error"]["code"], "unavailable");
+  EXPECT_EQ(r.parsed()["error"]["code"], "out_of_range");
   EXPECT_EQ(daemon_->status()["mode"], "stand");
 }
 

@@ -86,7 +86,7 @@ class Plot : public ::testing::Test {
 };
 
 TEST_F(Plot, ReadsARecordingAndPlotsOnlySeriesWithData) {
-  std::ofstream(path_) << "# ballast telemetry 1\n# t\tmode\tv_fwd\ttrue_v_fwd\tcmd_vx\terr_p2\tz\n"
+  std::ofstream(path_) << "# ballast telemetry 1\n# t\tmode\tv_fwd\ttrue_v_fwd\tcmd_vx\tlimb_err\tz\n"
                        << "0\t2\t0.1\tNaN\t0\tNaN\t0.89\n0.001\t2\t0.11\tNaN\t0\tNaN\t0.89\n";
   TelemetryTable t;
   std::string error;
@@ -103,7 +103,7 @@ TEST_F(Plot, ReadsARecordingAndPlotsOnlySeriesWithData) {
     EXPECT_NE(g.find(panel), std::string::npos) << panel;
   EXPECT_NE(g.find("using 1:3 with lines"), std::string::npos);       // v_fwd
   EXPECT_EQ(g.find("using 1:4 with lines"), std::string::npos);       // true_v_fwd: all NaN
-  EXPECT_NE(g.find("no data in this recording"), std::string::npos);  // (b): err_p2 all NaN
+  EXPECT_NE(g.find("no data in this recording"), std::string::npos);  // (b): limb_err all NaN
 }
 
 TEST_F(Plot, RefusesWhatIsNotARecording) {

@@ -10,21 +10,13 @@
 #include <thread>
 
 #include "control/control_loop.hpp"
+#include "control/mpc_planner.hpp"
 #include "profile/settings.hpp"
+#include "test/unit/allocation_counter.hpp"
 #include "test/unit/test_support.hpp"
 
 extern "C" const ballast::backend::BackendEntry* ballast_backend_entry();
 
-namespace {
-thread_local bool counting = false;  // only the thread running the loop is watched
-std::atomic<long> allocations{0};
-}  // namespace
-
-extern "C" void* __libc_malloc(std::size_t);
-extern "C" void* malloc(std::size_t n) {
-  if (counting) allocations.fetch_add(1);
-  return __libc_malloc(n);
-}
 
 namespace ballast::control {
 namespace {
@@ -132,12 +124,21 @@ class CountingPlanner : public Planner {
   std::atomic<int> calls{0};
 };
 
-TEST_F(LoopOnFake, PlannerSlotRunsAtItsRateInControllerTime) {
+TEST_F(LoopOnFake, PlannerSlotRunsAtItsRateInControllerTimeWhileStanding) {
   CountingPlanner planner;
   loop_->attachPlanner(&planner);
-  ticks(1000);  // 1 s of controller time at planner.rate 100 Hz, synchronous in lockstep
-  EXPECT_EQ(planner.calls.load(), 100);
+  ticks(300);
   EXPECT_TRUE(loop_->status().planner_available);
+  EXPECT_EQ(planner.calls.load(), 0);  // passive: nothing to plan
+  OperatorCommand c;
+  c.kind = CommandKind::kStand;
+  command(c);
+  for (int i = 0; i < 5000 && loop_->status().mode != Mode::kStand; ++i) loop_->tick();
+  ASSERT_EQ(loop_->status().mode, Mode::kStand);
+  EXPECT_LE(planner.calls.load(), 1);  // none during stand-up
+  const int before = planner.calls.load();
+  ticks(1000);  // 1 s of controller time at planner.rate 100 Hz, synchronous in lockstep
+  EXPECT_NEAR(planner.calls.load() - before, 100, 1);
 }
 
 class NoAllocation : public LoopOnFake {
@@ -148,12 +149,32 @@ class NoAllocation : public LoopOnFake {
   }
 };
 
+TEST_F(NoAllocation, StandAndWalkUnderTheWholeBodyControllerAllocateNothing) {
+  // The real planner on its thread (which may allocate); the loop samples its plans and runs
+  // the whole-body controller on them.
+  const gait::FlatTerrain ground;
+  MpcPlanner planner(test::humanoid(), settings_, ground);
+  loop_->attachPlanner(&planner);
+  OperatorCommand c;
+  c.kind = CommandKind::kStand;
+  command(c);
+  for (int i = 0; i < 2000 && loop_->status().mode != Mode::kStand; ++i) loop_->tick();
+  ASSERT_EQ(loop_->status().mode, Mode::kStand);
+  ticks(20);  // the first plans: the walking controller takes over from the standing one
+  c = {};
+  c.kind = CommandKind::kWalk;
+  c.vx = 0.3;
+  c.sequence = ++sequence_;
+  ASSERT_TRUE(loop_->submit(c));
+  EXPECT_EQ(test::allocationsIn([&] { ticks(300); }), 0);
+  EXPECT_EQ(loop_->status().mode, Mode::kWalk);
+  EXPECT_GT(loop_->status().mpc_ms, 0.0);  // plans arrived and were used
+}
+
 TEST_F(NoAllocation, CounterSeesAnAllocation) {
-  counting = true;
-  void* p = std::malloc(16);
-  counting = false;
+  void* p = nullptr;
+  EXPECT_GT(test::allocationsIn([&] { p = std::malloc(16); }), 0);
   std::free(p);
-  EXPECT_GT(allocations.load(), 0);
 }
 
 TEST_F(NoAllocation, TheLoopAllocatesNothingPerTick) {
@@ -172,12 +193,9 @@ TEST_F(NoAllocation, TheLoopAllocatesNothingPerTick) {
   auto run = [&](OperatorCommand c, int n) {
     c.sequence = ++sequence_;
     ASSERT_TRUE(loop_->submit(c));
-    allocations = 0;
-    counting = true;
-    for (int i = 0; i < n; ++i) loop_->tick();
-    counting = false;
-    counted += allocations.load();
-    EXPECT_EQ(allocations.load(), 0) << "command kind " << static_cast<int>(c.kind);
+    const long allocations = test::allocationsIn([&] { ticks(n); });
+    counted += allocations;
+    EXPECT_EQ(allocations, 0) << "command kind " << static_cast<int>(c.kind);
     CommandReply r;
     while (loop_->popReply(r)) {
     }
@@ -204,7 +222,7 @@ TEST_F(NoAllocation, TheLoopAllocatesNothingPerTick) {
   run(c, 10);
   c = {};
   c.kind = CommandKind::kWalk;  // refused: a message formatted into the reply
-  c.vx = 0.3;
+  c.vx = 5.0;
   run(c, 100);
   c = {};
   c.kind = CommandKind::kSwitchSettings;

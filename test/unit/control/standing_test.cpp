@@ -5,7 +5,6 @@
 
 #include <Eigen/LU>
 
-#include "control/leg_odometry.hpp"
 #include "control/stand_controller.hpp"
 #include "control/stand_posture.hpp"
 #include "model/algorithms.hpp"
@@ -108,43 +107,6 @@ TEST(GravityFeedForward, DoesNoWorkAlongMotionsThatKeepTheFeetDown) {
   EXPECT_NEAR(tau[elbow], n[6 + elbow], 1e-9);
   // And the legs carry the robot: the knees hold a substantial torque.
   EXPECT_GT(std::abs(tau[m.jointId("left_knee")]), 10.0);
-}
-
-TEST(LegOdometry, FollowsABaseMovingOverFixedFeet) {
-  const Model& m = test::humanoid();
-  ControlSettings s = simFlat();
-  s.ground_height = 0.0;
-  StandPosture posture(m, s);
-  LegOdometry odometry(m, s);
-  backend::Sensors sensors;
-  sensors.imu_valid = true;
-  EstimatedState state;
-  const double dt = 0.001;
-  double q[kMaxJoints], qPrev[kMaxJoints], dq[kMaxJoints] = {}, tau[kMaxJoints] = {};
-  // The base sinks at 0.1 m/s from 0.89 m (level), the feet still.
-  posture.solve(0.89, 0, 0, 0, 30, qPrev);
-  odometry.update(sensors, qPrev, dq, tau, dt, state);
-  EXPECT_NEAR(state.base.position[2], 0.89, 1e-3);
-  for (int k = 1; k <= 200; ++k) {
-    const double h = 0.89 - 0.1 * k * dt;
-    posture.solve(h, 0, 0, 0, 30, q);
-    for (int j = 0; j < m.nj(); ++j) {
-      dq[j] = (q[j] - qPrev[j]) / dt;
-      qPrev[j] = q[j];
-    }
-    sensors.time = k * dt;
-    odometry.update(sensors, q, dq, tau, dt, state);
-  }
-  EXPECT_NEAR(state.base.position[2], 0.87, 1e-6);
-  EXPECT_NEAR(state.base.position[0], 0.0, 1e-6);
-  EXPECT_NEAR(state.base.linear_velocity[2], -0.1, 2e-3);  // finite-difference dq: O(dt) off
-  for (bool c : state.contact) EXPECT_TRUE(c);
-  // The IMU's orientation is the base's (the IMU frame is level on the pelvis).
-  const Eigen::Vector4d tilt = quaternionXyzwFromZyx(Vec3<double>(0.3, 0.0, 0.1));
-  for (int i = 0; i < 4; ++i) sensors.imu.orientation[i] = tilt[i];
-  odometry.update(sensors, q, dq, tau, dt, state);
-  EXPECT_NEAR(state.base.rpy[0], 0.1, 1e-12);
-  EXPECT_NEAR(state.base.rpy[2], 0.3, 1e-12);
 }
 
 }  // namespace

@@ -70,7 +70,7 @@ TEST_F(ProfileTest, MinimalProfileLoadsWithDefaults) {
   EXPECT_EQ(p.number("control.rate"), 1000.0);
   EXPECT_EQ(p.origin("control.rate").str(), "default");
   EXPECT_EQ(p.text("wbc.variant"), "hierarchical");
-  EXPECT_EQ(p.numbers("planner.q_base").size(), 6u);
+  EXPECT_EQ(p.numbers("planner.q_base_position").size(), 3u);
   EXPECT_EQ(p.origin("backend.name").str(), p.path() + ":14:9");
   const control::ControlSettings s = buildSettings(p, loadModel(p));
   EXPECT_EQ(s.num_joints, 24);
@@ -102,7 +102,7 @@ control:
 wbc:
   variant: tiered
 planner:
-  q_base: [1, 2, 3]
+  q_base_orientation: [1, 2]
 gait:
   period: 0.5
   period: 0.6
@@ -114,7 +114,7 @@ safety:
   EXPECT_EQ(p[0], path + ":3:9: control.rate: expected a number, got 'fast'");
   EXPECT_EQ(p[1], path + ":4:22: control.stand_up_duration: 100 is out of range [0.1, 30] s");
   EXPECT_EQ(p[2], path + ":6:12: wbc.variant: 'tiered' is not one of hierarchical,weighted");
-  EXPECT_EQ(p[3], path + ":8:11: planner.q_base: expected a list of 6 numbers, got 3");
+  EXPECT_EQ(p[3], path + ":8:23: planner.q_base_orientation: expected a list of 3 numbers, got 2");
   EXPECT_EQ(p[4], path + ":11:3: gait.period: duplicate key");
   EXPECT_EQ(p[5],
             path + ":13:29: safety.fall_on_non_foot_contact: expected true or false, got 'maybe'");
@@ -313,7 +313,6 @@ TEST(ManPage, IsGeneratedFromTheSchema) {
 }  // namespace
 }  // namespace ballast::profile
 
-#ifdef BALLAST_HAVE_WBC
 #include "profile/wbc_settings.hpp"
 
 namespace ballast::profile {
@@ -343,4 +342,70 @@ TEST(WbcSettings, FromTheShippedProfileAndTheirProblemsLocated) {
 
 }  // namespace
 }  // namespace ballast::profile
-#endif
+
+
+#include "profile/locomotion_settings.hpp"
+
+namespace ballast::profile {
+namespace {
+
+// The planner's tuned values are the library's defaults (what its own tests and benchmarks
+// use); the schema declares them again for the profile. A profile that sets nothing must get
+// exactly the planner the library tests, so a retuning that changes one side fails here.
+TEST(LocomotionSettings, SchemaDefaultsAreTheLibraryDefaults) {
+  const std::string dir = ::testing::TempDir();
+  const std::string path = dir + "/locomotion-defaults.yaml";
+  std::ofstream(path) << "extends: " << BALLAST_SOURCE_DIR << "/profiles/sim-flat.yaml\n";
+  const Profile p = Profile::load(path);
+  for (const char* section : {"planner.", "gait."}) {
+    for (const Key& k : schema()) {
+      if (std::string(k.name).rfind(section, 0) == 0) {
+        EXPECT_EQ(p.origin(k.name).str(), "default") << k.name << " is set by sim-flat.yaml";
+      }
+    }
+  }
+  const model::Model model = loadModel(p);
+  const control::ControlSettings control = buildSettings(p, model);
+  const locomotion::LocomotionSettings s =
+      locomotionSettings(p, model, control, wbcSettings(p, model), 0.85);
+  const locomotion::LocomotionSettings d;
+  EXPECT_EQ(s.maxPositionLead, d.maxPositionLead);
+  EXPECT_EQ(s.footholdLead, d.footholdLead);
+  EXPECT_EQ(s.maxAcceleration, d.maxAcceleration);
+  EXPECT_EQ(s.maxYawAcceleration, d.maxYawAcceleration);
+  EXPECT_EQ(s.stopDelay, d.stopDelay);
+  EXPECT_EQ(s.walkStartDelay, d.walkStartDelay);
+  EXPECT_EQ(s.walkGait.period, d.walkGait.period);
+  EXPECT_EQ(s.walkGait.doubleSupport, d.walkGait.doubleSupport);
+  EXPECT_EQ(s.walkGait.toeOffLead, d.walkGait.toeOffLead);
+  EXPECT_EQ(s.swing.apexClearance, d.swing.apexClearance);
+  EXPECT_EQ(s.swing.replanUntil, d.swing.replanUntil);
+  EXPECT_EQ(s.swing.minFeetDistance, d.swing.minFeetDistance);
+  EXPECT_EQ(s.swing.foothold.feedbackGain, d.swing.foothold.feedbackGain);
+  const locomotion::CostWeights &w = s.weights, &dw = d.weights;
+  EXPECT_EQ(w.linearVelocity, dw.linearVelocity);
+  EXPECT_EQ(w.angularMomentum, dw.angularMomentum);
+  EXPECT_EQ(w.basePosition, dw.basePosition);
+  EXPECT_EQ(w.baseOrientation, dw.baseOrientation);
+  EXPECT_EQ(w.legJoint, dw.legJoint);
+  EXPECT_EQ(w.armJoint, dw.armJoint);
+  EXPECT_EQ(w.force, dw.force);
+  EXPECT_EQ(w.legJointVelocity, dw.legJointVelocity);
+  EXPECT_EQ(w.armJointVelocity, dw.armJointVelocity);
+  const mpc::ProblemSettings &q = s.problem, &dq = d.problem;
+  EXPECT_EQ(q.terminalWeightScale, dq.terminalWeightScale);
+  EXPECT_EQ(q.frictionCoefficient, dq.frictionCoefficient);
+  EXPECT_EQ(q.minNormalForce, dq.minNormalForce);
+  EXPECT_EQ(q.maxNormalForce, dq.maxNormalForce);
+  EXPECT_EQ(q.jointLimitMargin, dq.jointLimitMargin);
+  EXPECT_EQ(q.swingPositionGain, dq.swingPositionGain);
+  EXPECT_EQ(q.frictionBarrier.weight, dq.frictionBarrier.weight);
+  EXPECT_EQ(q.frictionBarrier.delta, dq.frictionBarrier.delta);
+  EXPECT_EQ(q.limitBarrier.weight, dq.limitBarrier.weight);
+  EXPECT_EQ(q.limitBarrier.delta, dq.limitBarrier.delta);
+  EXPECT_EQ(s.sqp.dt, d.sqp.dt);
+  EXPECT_EQ(s.sqp.nodes, d.sqp.nodes);
+}
+
+}  // namespace
+}  // namespace ballast::profile

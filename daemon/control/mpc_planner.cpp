@@ -1,0 +1,92 @@
+#include "control/mpc_planner.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "control/model_state.hpp"
+
+namespace ballast::control {
+
+MpcPlanner::MpcPlanner(const model::Model& model, const ControlSettings& settings,
+                       const gait::TerrainQuery& terrain)
+    : model_(model),
+      terrain_(terrain),
+      settings_(settings.locomotion),
+      posture_(model, settings),
+      q_(Eigen::VectorXd::Zero(model.nq)),
+      v_(Eigen::VectorXd::Zero(model.nv)) {
+  command_.standingJoints = Eigen::VectorXd::Zero(model.nj());
+  rebuild();
+}
+
+void MpcPlanner::rebuild() {
+  planner_ = std::make_unique<locomotion::LocomotionPlanner>(model_, settings_, terrain_);
+  walking_ = false;
+  planned_ = false;
+}
+
+void MpcPlanner::requestSettings(const ControlSettings& settings) {
+  auto next = std::make_unique<ControlSettings>(settings);
+  std::lock_guard<std::mutex> lock(pending_mutex_);
+  pending_ = std::move(next);
+}
+
+void MpcPlanner::plan(const PlannerInput& input, PlannerOutput& output) {
+  const bool walk = input.mode == Mode::kWalk;
+  if (input.restart || !walking_) {
+    std::unique_ptr<ControlSettings> next;
+    {
+      std::lock_guard<std::mutex> lock(pending_mutex_);
+      next = std::move(pending_);
+    }
+    if (next) {
+      settings_ = next->locomotion;
+      posture_.setNominal(*next);
+      rebuild();
+    } else if (input.restart) {
+      rebuild();
+    }
+  }
+  const bool fresh = !planned_;
+  toModelState(model_, input.state, q_, v_);
+  const BaseCommand& c = input.command;
+  locomotion::LocomotionCommand& command = command_;
+  command.walk = walk;
+  const bool moving = walk && c.velocity_active;
+  command.vx = moving ? c.vx : 0.0;
+  command.vy = moving ? c.vy : 0.0;
+  command.yawRate = moving ? c.yaw_rate : 0.0;
+  command.height = c.height > 0.0 ? c.height : posture_.nominalHeight();
+  command.roll = c.roll;
+  command.pitch = c.pitch;
+  command.yaw = c.yaw;
+  posture_.solve(command.height, c.roll, c.pitch, c.yaw, 5, command.standingJoints.data());
+
+  output.t = input.t;
+  output.message[0] = '\0';
+  // A fresh planner starts its SQP from the references, not from a previous solution: one
+  // real-time iteration from there is no plan to act on. Converge it first.
+  for (int i = 0; fresh && i < kFreshIterations; ++i)
+    planner_->update(input.t, q_, v_, command, output.plan);
+  output.valid = planner_->update(input.t, q_, v_, command, output.plan);
+  planned_ = output.valid;
+  if (!output.valid) {
+    copyText(output.message, planner_->statistics().message.c_str());
+    return;
+  }
+  // Walking until the plan stands again (the planner keeps stepping while it slows down).
+  walking_ = output.plan.walking;
+  const locomotion::Plan& p = output.plan;
+  for (int k = 0; k <= p.nodes; ++k) {
+    bool finite = Eigen::Map<const Eigen::VectorXd>(p.x[k], p.nx).allFinite();
+    if (k < p.nodes) finite = finite && Eigen::Map<const Eigen::VectorXd>(p.u[k], p.nu).allFinite();
+    if (!finite) {
+        output.valid = false;
+        std::snprintf(output.message, sizeof(output.message),
+                      "the MPC solution has a non-finite value at node %d", k);
+        return;
+    }
+  }
+}
+
+}  // namespace ballast::control

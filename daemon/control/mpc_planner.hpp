@@ -1,0 +1,58 @@
+// The kino-dynamic MPC in the control loop's planner seat (PlannerSlot): PlannerInput ->
+// locomotion::LocomotionPlanner (gait, footholds, swing trajectories, one SQP iteration) ->
+// PlannerOutput. Runs on the planner thread only.
+//
+//   mode walk  -> LocomotionCommand{walk, the velocity command while it is active (else 0)}
+//   mode stand -> standing, at the commanded pose (height, roll, pitch, yaw), with the joint
+//                 posture that realises it (StandPosture) as the joints' reference
+// PlannerInput::restart, or new settings, rebuild the LocomotionPlanner (the planner thread
+// allocates; the 1 kHz loop never does). New settings (a profile switch, handed over by the IO
+// thread through requestSettings()) take effect at the first plan made standing — a planner
+// rebuilt mid-stride would lose its gait phase — or at a restart.
+// A failed SQP iteration or a plan with a non-finite number is reported invalid with the
+// solver's message; the loop keeps its last valid plan and raises a planner fault.
+#pragma once
+
+#include <memory>
+#include <mutex>
+
+#include "control/planner_slot.hpp"
+#include "control/settings.hpp"
+#include "control/stand_posture.hpp"
+#include "control/types.hpp"
+#include "gait/terrain_query.hpp"
+#include "locomotion/locomotion_planner.hpp"
+
+namespace ballast::control {
+
+class MpcPlanner final : public Planner {
+ public:
+  /// Keeps references to the model and the terrain, which must outlive the planner. Throws
+  /// what LocomotionPlanner's constructor throws.
+  MpcPlanner(const model::Model& model, const ControlSettings& settings,
+             const gait::TerrainQuery& terrain);
+
+  void plan(const PlannerInput& input, PlannerOutput& output) override;
+
+  /// Any thread but the loop's: the settings for the next rebuild.
+  void requestSettings(const ControlSettings& settings);
+
+ private:
+  void rebuild();
+
+  const model::Model& model_;
+  const gait::TerrainQuery& terrain_;
+  locomotion::LocomotionSettings settings_;
+  std::unique_ptr<locomotion::LocomotionPlanner> planner_;
+  StandPosture posture_;
+  locomotion::LocomotionCommand command_;
+  Eigen::VectorXd q_, v_;
+  bool walking_ = false;
+  bool planned_ = false;  // the planner has made a plan since it was built
+  static constexpr int kFreshIterations = 5;
+
+  std::mutex pending_mutex_;  // IO thread <-> planner thread only
+  std::unique_ptr<ControlSettings> pending_;
+};
+
+}  // namespace ballast::control
