@@ -2,15 +2,16 @@
 
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include "control/model_state.hpp"
 
 namespace ballast::control {
 
 MpcPlanner::MpcPlanner(const model::Model& model, const ControlSettings& settings,
-                       const gait::TerrainQuery& terrain)
+                       std::shared_ptr<const terrain::HeightMap> terrain)
     : model_(model),
-      terrain_(terrain),
+      terrain_(std::move(terrain)),
       settings_(settings.locomotion),
       posture_(model, settings),
       q_(Eigen::VectorXd::Zero(model.nq)),
@@ -31,7 +32,12 @@ void MpcPlanner::requestSettings(const ControlSettings& settings) {
   pending_ = std::move(next);
 }
 
+void MpcPlanner::setTerrain(std::shared_ptr<const terrain::HeightMap> terrain) {
+  terrain_.publish(std::move(terrain));
+}
+
 void MpcPlanner::plan(const PlannerInput& input, PlannerOutput& output) {
+  terrain_.refresh();
   const bool walk = input.mode == Mode::kWalk;
   if (input.restart || !walking_) {
     std::unique_ptr<ControlSettings> next;

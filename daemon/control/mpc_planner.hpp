@@ -11,37 +11,41 @@
 // rebuilt mid-stride would lose its gait phase — or at a restart.
 // A failed SQP iteration or a plan with a non-finite number is reported invalid with the
 // solver's message; the loop keeps its last valid plan and raises a planner fault.
+// The terrain (MapTerrain) is the world, not a setting: a map handed over by setTerrain() is
+// taken at the start of the next plan(), walking or not.
 #pragma once
 
 #include <memory>
 #include <mutex>
 
+#include "control/map_terrain.hpp"
 #include "control/planner_slot.hpp"
 #include "control/settings.hpp"
 #include "control/stand_posture.hpp"
 #include "control/types.hpp"
-#include "gait/terrain_query.hpp"
 #include "locomotion/locomotion_planner.hpp"
 
 namespace ballast::control {
 
 class MpcPlanner final : public Planner {
  public:
-  /// Keeps references to the model and the terrain, which must outlive the planner. Throws
-  /// what LocomotionPlanner's constructor throws.
+  /// Keeps a reference to the model, which must outlive the planner. Throws what
+  /// LocomotionPlanner's constructor throws, std::invalid_argument for a null terrain.
   MpcPlanner(const model::Model& model, const ControlSettings& settings,
-             const gait::TerrainQuery& terrain);
+             std::shared_ptr<const terrain::HeightMap> terrain);
 
   void plan(const PlannerInput& input, PlannerOutput& output) override;
 
   /// Any thread but the loop's: the settings for the next rebuild.
   void requestSettings(const ControlSettings& settings);
+  /// Any thread but the loop's: the terrain from the next plan() on (MapTerrain::publish).
+  void setTerrain(std::shared_ptr<const terrain::HeightMap> terrain);
 
  private:
   void rebuild();
 
   const model::Model& model_;
-  const gait::TerrainQuery& terrain_;
+  MapTerrain terrain_;  // before planner_, which refers to it
   locomotion::LocomotionSettings settings_;
   std::unique_ptr<locomotion::LocomotionPlanner> planner_;
   StandPosture posture_;

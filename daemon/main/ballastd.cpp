@@ -28,7 +28,6 @@
 #include "control/control_loop.hpp"
 #include "control/mpc_planner.hpp"
 #include "control/telemetry.hpp"
-#include "gait/terrain_query.hpp"
 #include "profile/profile.hpp"
 #include "profile/schema.hpp"
 #include "profile/settings.hpp"
@@ -115,9 +114,13 @@ int main(int argc, char** argv) {
     return startupError("profile " + profilePath + " refused:\n" + e.what());
   }
   const profile::Profile& prof = *ctx.profile;
+  // The terrain map and the planner's height grid from it (a flat floor at
+  // terrain.ground_height without one).
+  const double ground = prof.number("terrain.ground_height");
+  ctx.map = server::TerrainMap(ground);
   if (const std::string map = prof.text("terrain.map"); !map.empty()) {
     std::string error;
-    if (!ctx.map.load(map, error)) return startupError(prof.problem("terrain.map", error));
+    if (!ctx.map.load(map, ground, error)) return startupError(prof.problem("terrain.map", error));
   }
   if (check) {
     std::printf("profile %s is valid (%zu file%s; robot %s, %d joints)\n", prof.path().c_str(),
@@ -164,12 +167,11 @@ int main(int argc, char** argv) {
   ctx.simulation = caps.simulation;
 
   // ---- 4. planner, control loop, telemetry
-  // The planner's terrain: a flat floor at terrain.ground_height (the map-backed terrain
-  // query comes with daemon/terrain).
-  const gait::FlatTerrain ground(prof.number("terrain.ground_height"));
+  // The planner reads the terrain map's height grid; `map load` and profile switches hand it
+  // new ones (server.cpp).
   std::unique_ptr<control::MpcPlanner> planner;
   try {
-    planner = std::make_unique<control::MpcPlanner>(*model, *ctx.settings, ground);
+    planner = std::make_unique<control::MpcPlanner>(*model, *ctx.settings, ctx.map.heights());
   } catch (const std::exception& e) {
     backend->stop();
     return startupError(std::string("planner: ") + e.what());
@@ -208,9 +210,10 @@ int main(int argc, char** argv) {
     backend->stop();
     return startupError(e.what());
   }
-  spdlog::info("ballastd {}: profile {}, backend {} ({}{}), robot {} ({} joints), {} Hz",
+  spdlog::info("ballastd {}: profile {}, backend {} ({}{}, {}), robot {} ({} joints), {} Hz",
                BALLAST_VERSION, prof.name(), caps.name, caps.simulation ? "simulation" : "hardware",
-               lockstep ? ", lockstep" : "", model->name, model->nj(), ctx.settings->rate);
+               lockstep ? ", lockstep" : "", plugin->path(), model->name, model->nj(),
+               ctx.settings->rate);
   std::atomic<bool> stop{false};
   std::thread control([&] { loop->run(stop); });
   if (!lockstep) tryRealtime(control);

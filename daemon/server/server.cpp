@@ -580,11 +580,12 @@ void Server::dispatch(Client& c, const json& id, const std::string& cmd, const j
   } else if (cmd == "map_load") {
     std::string error;
     const std::string path = r["path"].get<std::string>();
-    if (!ctx_.map.load(path, error)) {
+    if (!ctx_.map.load(path, ctx_.profile->number("terrain.ground_height"), error)) {
       fail(c.fd, id, access(path.c_str(), R_OK) == 0 ? protocol::kIoError : protocol::kNotFound,
            error + "; the map in use stays");
       return;
     }
+    if (ctx_.planner) ctx_.planner->setTerrain(ctx_.map.heights());
     spdlog::info("terrain map {} loaded", path);
     reply(c.fd, id, {{"map", ctx_.map.info()}});
   } else if (cmd == "map_info") {
@@ -677,12 +678,14 @@ void Server::switchProfile(Client* c, const json& id, const std::string& name) {
                path + "):" + list + "\n(profile " + ctx_.profile->name() + " stays in force)");
     return;
   }
-  // The planner's terrain map, loaded before anything changes.
+  // The planner's terrain map (and its height grid), loaded before anything changes.
   std::unique_ptr<TerrainMap> map;
-  if (const std::string m = next->text("terrain.map"); m != ctx_.map.path()) {
-    map = std::make_unique<TerrainMap>();
+  const std::string m = next->text("terrain.map");
+  const double ground = next->number("terrain.ground_height");
+  if (m != ctx_.map.path() || ground != ctx_.map.heights()->ground()) {
+    map = std::make_unique<TerrainMap>(ground);
     std::string error;
-    if (!m.empty() && !map->load(m, error)) {
+    if (!m.empty() && !map->load(m, ground, error)) {
       refuse(protocol::kInvalidProfile, next->problem("terrain.map", error) + "\n(profile " +
                                             ctx_.profile->name() + " stays in force)");
       return;
@@ -731,7 +734,10 @@ void Server::onLoopReplies() {
         delete r.retired;
         ctx_.settings = p.settings;
         if (ctx_.planner) ctx_.planner->requestSettings(*p.settings);
-        if (p.map) ctx_.map = std::move(*p.map);
+        if (p.map) {
+          ctx_.map = std::move(*p.map);
+          if (ctx_.planner) ctx_.planner->setTerrain(ctx_.map.heights());
+        }
         spdlog::info("profile {} in force ({})", p.profile->name(), r.message);
         ctx_.profile = std::move(p.profile);
         const std::string socket = config_.socket_path;

@@ -50,7 +50,7 @@ ServerConfig serverConfig(const profile::Profile& profile, const std::string& so
 struct DaemonContext {
   const model::Model* model = nullptr;
   control::ControlLoop* loop = nullptr;
-  control::MpcPlanner* planner = nullptr;  ///< gets the planner settings of a profile switch
+  control::MpcPlanner* planner = nullptr;  ///< gets a profile switch's settings, and terrain maps
   control::TelemetryWriter* writer = nullptr;
   std::unique_ptr<profile::Profile> profile;           ///< the running profile
   const control::ControlSettings* settings = nullptr;  ///< the loop's; freed when retired

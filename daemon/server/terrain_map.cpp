@@ -1,50 +1,30 @@
 #include "server/terrain_map.hpp"
 
-#include <unistd.h>
-
-#include <cerrno>
-#include <cstring>
-#include <fstream>
-
 #include <octomap/OcTree.h>
+
+#include "terrain/octree_file.hpp"
 
 namespace ballast::server {
 
-TerrainMap::TerrainMap() = default;
+TerrainMap::TerrainMap(double ground)
+    : heights_(std::make_shared<const terrain::HeightMap>(ground)) {}
 TerrainMap::~TerrainMap() = default;
 TerrainMap::TerrainMap(TerrainMap&&) noexcept = default;
 TerrainMap& TerrainMap::operator=(TerrainMap&&) noexcept = default;
 
-bool TerrainMap::load(const std::string& path, std::string& error) {
-  if (access(path.c_str(), R_OK) != 0) {
-    error = "map " + path + ": cannot read it: " + std::strerror(errno);
-    return false;
-  }
-  const auto dot = path.rfind('.');
-  const std::string ext = dot == std::string::npos ? "" : path.substr(dot);
+bool TerrainMap::load(const std::string& path, double ground, std::string& error) {
   std::shared_ptr<octomap::OcTree> tree;
-  if (ext == ".bt") {
-    std::ifstream in(path, std::ios::binary);
-    // OcTree::readBinary checks the header and the node data and returns false on a bad file.
-    tree = std::make_shared<octomap::OcTree>(0.1);
-    if (!tree->readBinary(in)) {
-      error = "map " + path + ": not a readable OctoMap binary (.bt) file";
-      return false;
-    }
-  } else if (ext == ".ot") {
-    std::unique_ptr<octomap::AbstractOcTree> any(octomap::AbstractOcTree::read(path));
-    auto* oc = dynamic_cast<octomap::OcTree*>(any.get());
-    if (!oc) {
-      error = "map " + path + ": not an OctoMap OcTree (.ot) file";
-      return false;
-    }
-    any.release();
-    tree.reset(oc);
-  } else {
-    error = "map " + path + ": expected an OctoMap file (.bt or .ot)";
+  std::shared_ptr<const terrain::HeightMap> heights;
+  try {
+    tree = terrain::readOcTree(path);
+    heights = std::make_shared<const terrain::HeightMap>(
+        terrain::HeightMap::fromOcTree(*tree, ground, path));
+  } catch (const terrain::MapError& e) {
+    error = e.what();
     return false;
   }
   tree_ = std::move(tree);
+  heights_ = std::move(heights);
   path_ = path;
   return true;
 }
@@ -58,7 +38,11 @@ nlohmann::json TerrainMap::info() const {
           {"resolution", tree_->getResolution()},
           {"leaves", tree_->getNumLeafNodes()},
           {"min", {x0, y0, z0}},
-          {"max", {x1, y1, z1}}};
+          {"max", {x1, y1, z1}},
+          {"heights",
+           {{"columns", {heights_->columnsX(), heights_->columnsY()}},
+            {"known", heights_->knownColumns()},
+            {"ground", heights_->ground()}}}};
 }
 
 }  // namespace ballast::server

@@ -131,9 +131,12 @@ TEST_F(Verbs, PoseMovesTheBaseWithinTheProfileLimits) {
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("safety.max_pose_tilt"), std::string::npos) << r.err;
   EXPECT_DOUBLE_EQ(daemon_->status()["command"]["height"].get<double>(), 0.82);
-  r = cli({"pose"});  // back to nominal
+  r = cli({"pose"});  // back to nominal (the loop takes the command at its next tick)
   EXPECT_EQ(r.status, 0);
-  EXPECT_NEAR(daemon_->status()["command"]["height"].get<double>(), 0.89, 0.01);
+  EXPECT_TRUE(daemon_->waitFor([](const json& s) {
+    return std::abs(s["command"]["height"].get<double>() - 0.89) < 0.01 &&
+           std::abs(s["base"]["position"][2].get<double>() - 0.89) < 0.01;
+  })) << daemon_->status().dump();
 }
 
 TEST_F(Verbs, EstopLatchesUntilResetThenStandAgain) {
@@ -285,6 +288,8 @@ TEST_F(Verbs, MapLoadAndInfo) {
   r = cli({"--json", "map", "load", map});
   ASSERT_EQ(r.status, 0) << r.err << r.out;
   EXPECT_DOUBLE_EQ(r.parsed()["map"]["resolution"].get<double>(), 0.05);
+  // The planner's grid: a column for each cell of the one-cell-thick slab.
+  EXPECT_EQ(r.parsed()["map"]["heights"]["known"], tree.getNumLeafNodes());
   r = cli({"map", "info"});
   EXPECT_NE(r.out.find(map), std::string::npos);
   const std::string junk = writeFile(dir_ / "junk.bt", "not an octomap\n");
@@ -292,6 +297,14 @@ TEST_F(Verbs, MapLoadAndInfo) {
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.parsed()["error"]["message"].get<std::string>().find("the map in use stays"),
             std::string::npos);
+  const std::string empty = (dir_ / "empty.bt").string();
+  ASSERT_TRUE(octomap::OcTree(0.05).writeBinaryConst(empty));
+  r = cli({"--json", "map", "load", empty});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.parsed()["error"]["message"].get<std::string>().find(
+                "map " + empty + ": the map has no occupied cells; the map in use stays"),
+            std::string::npos)
+      << r.out;
   r = cli({"--json", "map", "load", (dir_ / "none.bt").string()});
   EXPECT_EQ(r.parsed()["error"]["code"], "not_found");
   EXPECT_EQ(daemon_->status()["map"]["path"], map);

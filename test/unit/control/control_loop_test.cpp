@@ -152,8 +152,7 @@ class NoAllocation : public LoopOnFake {
 TEST_F(NoAllocation, StandAndWalkUnderTheWholeBodyControllerAllocateNothing) {
   // The real planner on its thread (which may allocate); the loop samples its plans and runs
   // the whole-body controller on them.
-  const gait::FlatTerrain ground;
-  MpcPlanner planner(test::humanoid(), settings_, ground);
+  MpcPlanner planner(test::humanoid(), settings_, std::make_shared<const terrain::HeightMap>());
   loop_->attachPlanner(&planner);
   OperatorCommand c;
   c.kind = CommandKind::kStand;

@@ -3,8 +3,10 @@
 // own model cannot walk the robot.
 #include <gtest/gtest.h>
 
+#include "control/map_terrain.hpp"
 #include "locomotion/locomotion_planner.hpp"
 #include "model/algorithms.hpp"
+#include "test/unit/plan_support.hpp"
 #include "test/unit/test_support.hpp"
 
 namespace ballast::locomotion {
@@ -132,6 +134,51 @@ double walkSpeed(Locomotion& f, double vx, Tracking how, Eigen::VectorXd& q) {
   EXPECT_EQ(xs.size(), 400u);
   if (xs.size() != 400u) return 0.0;
   return (xs[399] - xs[199]) / 2.0;
+}
+
+TEST_F(Locomotion, StepsOntoTheLabStageAtItsHeight) {
+  // maps/lab-stage.bt (a 15 cm stage from x = 1.5 m, 2 cm cells) through the planner's terrain
+  // binding; the robot walks at 0.5 m/s from x = 1.0 m along its own plan.
+  const control::MapTerrain stage(std::make_shared<const terrain::HeightMap>(
+      terrain::HeightMap::fromFile(std::string(BALLAST_SOURCE_DIR) + "/maps/lab-stage.bt", 0.0)));
+  constexpr double kEdge = 1.5, kHeight = 0.15, kHalfCell = 0.0101;
+  LocomotionPlanner planner(m, settings, stage);
+  Eigen::VectorXd q = test::standingConfiguration(m), v = Eigen::VectorXd::Zero(m.nv);
+  q[0] = 1.0;
+  LocomotionCommand cmd;
+  cmd.walk = true;
+  cmd.vx = 0.5;
+  Plan plan;
+  double t = 0;
+  int onStage = 0, onFloor = 0;
+  for (int chunk = 0; chunk < 30 && !HasFailure(); ++chunk) {  // 3 s, 0.1 s at a time
+    run(planner, cmd, 0.1, q, v, plan, t);
+    for (const test::TouchDown& s : test::plannedTouchDowns(plan)) {
+      const double x = s.position.x(), z = s.position.z();
+      if (x > kEdge + 0.02) {
+        EXPECT_NEAR(z, kHeight, kHalfCell)
+            << "t = " << t << ", contact " << s.contact << " at x " << x;
+        ++onStage;
+      } else if (x < kEdge - 0.02) {
+        EXPECT_NEAR(z, 0.0, 1e-9) << "t = " << t << ", contact " << s.contact << " at x " << x;
+        ++onFloor;
+      }
+    }
+  }
+  EXPECT_GT(onFloor, 0);
+  EXPECT_GT(onStage, 0);
+  // By now the feet are on the stage in the plan's own model, the stance ones on its top.
+  EXPECT_GT(q[0], kEdge + 0.5);
+  model::Data<double> d(m);
+  model::forwardKinematics(m, d, q);
+  const std::array<int, kNumContacts> frames = contactFrameIds(m, settings);
+  for (int c = 0; c < kNumContacts; ++c) {
+    const Eigen::Vector3d p = model::framePlacement(m, d, frames[c]).p;
+    EXPECT_GT(p.x(), kEdge + 0.02) << settings.contactFrames[c];
+    if (plan.schedule.inStance(c, t)) {
+      EXPECT_NEAR(p.z(), kHeight, 2 * kHalfCell) << settings.contactFrames[c];
+    }
+  }
 }
 
 TEST_F(Locomotion, PlansWalkingAtTheCommandedSpeed) {

@@ -1,0 +1,136 @@
+// The planner's terrain: MapTerrain answers with the height grid's heights, a map published
+// from another thread is taken at the planner's next refresh (never in the middle of its reads),
+// and MpcPlanner plans its footholds on the map handed to it by setTerrain().
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <stdexcept>
+#include <thread>
+
+#include "control/map_terrain.hpp"
+#include "control/mpc_planner.hpp"
+#include "profile/settings.hpp"
+#include "terrain_maps.hpp"
+#include "test/unit/plan_support.hpp"
+#include "test/unit/test_support.hpp"
+
+namespace ballast::control {
+namespace {
+
+using terrain::HeightMap;
+
+std::shared_ptr<const HeightMap> labStage() {
+  return std::make_shared<const HeightMap>(
+      HeightMap::fromFile(std::string(BALLAST_SOURCE_DIR) + "/maps/lab-stage.bt", 0.0));
+}
+
+TEST(MapTerrain, AnswersWithTheMapsHeights) {
+  const std::shared_ptr<const HeightMap> map = labStage();
+  const MapTerrain terrain(map);
+  for (double x = -1.0; x < 5.0; x += 0.07)
+    for (double y : {-1.8, 0.0, 0.9}) EXPECT_EQ(terrain.height(x, y), map->height(x, y));
+  EXPECT_NEAR(terrain.height(1.0, 0.0), 0.0, 1e-9);
+  EXPECT_NEAR(terrain.height(2.0, 0.0), 0.15, 0.0101);
+  // The swing apex looks along the whole swing: a stage between lift-off and touch-down counts.
+  EXPECT_NEAR(terrain.maxHeightAlong(1.0, 0.0, 4.0, 0.0), 0.15, 0.0101);
+  EXPECT_NEAR(terrain.maxHeightAlong(0.0, 0.0, 1.4, 0.0), 0.0, 1e-9);
+  EXPECT_THROW(MapTerrain(nullptr), std::invalid_argument);
+}
+
+TEST(MapTerrain, APublishedMapIsTakenAtTheNextRefresh) {
+  MapTerrain terrain(std::make_shared<const HeightMap>(0.0));
+  EXPECT_FALSE(terrain.refresh());
+  terrain.publish(labStage());
+  EXPECT_EQ(terrain.height(2.0, 0.0), 0.0);  // the update in progress keeps its map
+  EXPECT_TRUE(terrain.refresh());
+  EXPECT_NEAR(terrain.height(2.0, 0.0), 0.15, 0.0101);
+  EXPECT_FALSE(terrain.refresh());
+  EXPECT_THROW(terrain.publish(nullptr), std::invalid_argument);
+  EXPECT_NEAR(terrain.height(2.0, 0.0), 0.15, 0.0101);
+}
+
+TEST(MapTerrain, SwapsFromAnotherThreadAreSeenWhole) {
+  // The IO thread publishes flat maps at 1, 2, ..., n while the planner thread refreshes and
+  // reads: every read is one of the maps, in order, and the last one is seen.
+  constexpr int kMaps = 2000;
+  MapTerrain terrain(std::make_shared<const HeightMap>(0.0));
+  std::atomic<bool> done{false};
+  std::thread io([&] {
+    for (int i = 1; i <= kMaps; ++i) terrain.publish(std::make_shared<const HeightMap>(i));
+    done = true;
+  });
+  double last = 0.0;
+  int changes = 0;
+  bool ordered = true, whole = true;
+  for (bool finished = false; !finished;) {
+    finished = done.load();  // one more round after the last publish
+    changes += terrain.refresh();
+    const double a = terrain.height(0.3, 0.1), b = terrain.height(-7.0, 2.0);
+    whole = whole && a == b && a == std::floor(a);
+    ordered = ordered && a >= last;
+    last = a;
+  }
+  io.join();
+  EXPECT_TRUE(whole);
+  EXPECT_TRUE(ordered);
+  EXPECT_EQ(last, kMaps);
+  EXPECT_GE(changes, 1);
+}
+
+/// The planner's input for the humanoid standing at the origin, walking at vx.
+PlannerInput walking(double t, double vx) {
+  const model::Model& m = test::humanoid();
+  const Eigen::VectorXd q = test::standingConfiguration(m);
+  PlannerInput in;
+  in.t = t;
+  in.mode = Mode::kWalk;
+  in.state.t = t;
+  for (int i = 0; i < 3; ++i) in.state.base.position[i] = q[i];
+  for (int i = 0; i < 4; ++i) in.state.base.orientation[i] = q[3 + i];
+  in.state.num_joints = m.nj();
+  for (int j = 0; j < m.nj(); ++j) in.state.q[j] = q[model::Model::qIndexOfJoint(j)];
+  in.command.vx = vx;
+  in.command.velocity_active = true;
+  in.command.expires_at = 100.0;
+  return in;
+}
+
+TEST(MpcPlannerTerrain, FootholdsFollowAMapHandedOverBetweenPlans) {
+  const model::Model& m = test::humanoid();
+  const ControlSettings settings = profile::buildSettings(
+      profile::Profile::load(std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat.yaml"), m);
+  MpcPlanner planner(m, settings, std::make_shared<const HeightMap>(0.0));
+  PlannerOutput out;
+  PlannerInput in = walking(0.0, 0.3);
+  in.restart = true;
+  planner.plan(in, out);
+  ASSERT_TRUE(out.valid) << out.message;
+  std::vector<test::TouchDown> steps = test::plannedTouchDowns(out.plan);
+  ASSERT_FALSE(steps.empty());
+  for (const auto& s : steps) EXPECT_EQ(s.position.z(), 0.0) << s.position.x();
+
+  // A 4 cm platform from x = 0.1 m, under the toes of the first steps (the heels land before
+  // it): handed over, then planned on.
+  const auto tree = maps::makeTerrainMap(maps::stage(0.04, 0.1, 2.0, 2.0), 0.02, {-1, 3, -1, 1});
+  planner.setTerrain(std::make_shared<const HeightMap>(HeightMap::fromOcTree(*tree, 0.0)));
+  planner.plan(walking(0.01, 0.3), out);
+  ASSERT_TRUE(out.valid) << out.message;
+  steps = test::plannedTouchDowns(out.plan);
+  int onPlatform = 0, onFloor = 0;
+  for (const auto& s : steps) {
+    const double x = s.position.x(), z = s.position.z();
+    if (x > 0.11) {
+      EXPECT_NEAR(z, 0.04, 1e-6) << x;
+      ++onPlatform;
+    } else if (x < 0.09) {
+      EXPECT_NEAR(z, 0.0, 1e-9) << x;
+      ++onFloor;
+    }
+  }
+  EXPECT_GT(onPlatform, 0);
+  EXPECT_GT(onFloor, 0);
+}
+
+}  // namespace
+}  // namespace ballast::control

@@ -1,0 +1,220 @@
+// The height grid: the example maps read back as maps/README.md describes them, generated maps
+// column by column against their height functions, the ground default off the map and in
+// unknown columns, slopes, and every way a map file is refused (named, with the reason).
+#include <gtest/gtest.h>
+
+#include <octomap/ColorOcTree.h>
+#include <octomap/OcTree.h>
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+
+#include "terrain/height_map.hpp"
+#include "terrain/octree_file.hpp"
+#include "terrain_maps.hpp"
+#include "test/unit/allocation_counter.hpp"
+
+namespace ballast::terrain {
+namespace {
+
+constexpr double kRes = 0.02;                  // the example maps' cells
+constexpr double kHalfCell = kRes / 2 + 1e-6;  // the maps' quantisation (README: ±res/2)
+
+std::string exampleMap(const std::string& name) {
+  return std::string(BALLAST_SOURCE_DIR) + "/maps/" + name;
+}
+
+/// The top of a generated column of height h (maps/terrain_maps.hpp: a cell is occupied when
+/// its centre is below h), counted independently of the generator.
+double quantised(double h, double res) {
+  int cells = 0;
+  while ((cells + 0.5) * res < h) ++cells;
+  return cells * res;
+}
+
+TEST(HeightMap, LabStageIsFlatBeforeTheStageAndFifteenCentimetresOnIt) {
+  const HeightMap map = HeightMap::fromFile(exampleMap("lab-stage.bt"), 0.0);
+  EXPECT_DOUBLE_EQ(map.resolution(), kRes);
+  // README: a stage 15 cm high, 2 m deep, 3 m wide, from x = 1.5 m; floor x -2..6, y -2..2.
+  for (double y = -1.45; y <= 1.45; y += 0.1) {
+    for (double x = -1.9; x < 1.49; x += 0.1)
+      EXPECT_NEAR(map.height(x, y), 0.0, 1e-9) << x << ", " << y;
+    for (double x = 1.51; x < 3.49; x += 0.1)
+      EXPECT_NEAR(map.height(x, y), 0.15, kHalfCell) << x << ", " << y;
+    for (double x = 3.51; x < 5.9; x += 0.1)
+      EXPECT_NEAR(map.height(x, y), 0.0, 1e-9) << x << ", " << y;
+  }
+  for (double x = 1.6; x < 3.4; x += 0.1) EXPECT_NEAR(map.height(x, 1.7), 0.0, 1e-9) << x;
+  // The edge is a step, where the map has it: no ramp between the two levels.
+  EXPECT_NEAR(map.height(1.499, 0.0), 0.0, 1e-9);
+  EXPECT_NEAR(map.height(1.501, 0.0), 0.15, kHalfCell);
+  EXPECT_NEAR(map.height(3.499, 0.0), 0.15, kHalfCell);
+  EXPECT_NEAR(map.height(3.501, 0.0), 0.0, 1e-9);
+}
+
+TEST(HeightMap, LabStepsRiseTenCentimetresEveryThirtyThenALanding) {
+  const HeightMap map = HeightMap::fromFile(exampleMap("lab-steps.bt"), 0.0);
+  // README: three steps up, 10 cm rise, 30 cm run, 2 m wide, from x = 1.5 m, then a landing.
+  for (double y : {-0.95, -0.5, 0.0, 0.5, 0.95}) {
+    EXPECT_NEAR(map.height(1.45, y), 0.0, 1e-9);
+    for (int step = 1; step <= 3; ++step) {
+      const double start = 1.5 + (step - 1) * 0.3;
+      for (double x = start + 0.01; x < start + 0.3; x += 0.02)
+        EXPECT_NEAR(map.height(x, y), 0.1 * step, kHalfCell) << "step " << step << " x " << x;
+    }
+    for (double x = 2.5; x < 5.9; x += 0.25) EXPECT_NEAR(map.height(x, y), 0.3, kHalfCell) << x;
+  }
+  EXPECT_NEAR(map.height(2.5, 1.1), 0.0, 1e-9);  // beside the stairs
+  EXPECT_NEAR(map.height(1.799, 0.0), 0.1, kHalfCell);
+  EXPECT_NEAR(map.height(1.801, 0.0), 0.2, kHalfCell);
+}
+
+TEST(HeightMap, EveryColumnOfAGeneratedMapIsItsHeightFunction) {
+  // Rough patches at random heights: many leaf sizes after pruning, every column different.
+  const maps::HeightFunction h = maps::rough(0.12, 0.1, 3);
+  const maps::MapExtent extent{-0.5, 1.1, -0.7, 0.5};
+  for (double res : {0.02, 0.05}) {
+    const auto tree = maps::makeTerrainMap(h, res, extent);
+    const HeightMap map = HeightMap::fromOcTree(*tree, -1.0);
+    EXPECT_EQ(map.knownColumns(), map.columnsX() * map.columnsY());
+    EXPECT_EQ(map.columnsX(), static_cast<std::size_t>(std::lround(1.6 / res)));
+    EXPECT_EQ(map.columnsY(), static_cast<std::size_t>(std::lround(1.2 / res)));
+    int checked = 0;
+    for (double y = extent.yMin + res / 2; y < extent.yMax; y += res)
+      for (double x = extent.xMin + res / 2; x < extent.xMax; x += res, ++checked)
+        ASSERT_NEAR(map.height(x, y), quantised(h(x, y), res), 1e-6) << x << ", " << y;
+    EXPECT_EQ(checked, static_cast<int>(map.columnsX() * map.columnsY()));
+  }
+}
+
+TEST(HeightMap, TheGroundDefaultOffTheMapAndWhereNothingIsKnown) {
+  const HeightMap map = HeightMap::fromFile(exampleMap("lab-stage.bt"), 0.37);
+  EXPECT_NEAR(map.height(0.0, 0.0), 0.0, 1e-9);  // known floor: the map, not the default
+  for (const auto& [x, y] :
+       {std::pair{-2.01, 0.0}, {6.01, 0.0}, {0.0, 2.01}, {0.0, -2.01}, {100.0, -100.0}})
+    EXPECT_EQ(map.height(x, y), 0.37) << x << ", " << y;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_EQ(map.height(nan, 0.0), 0.37);
+  EXPECT_EQ(map.height(0.0, nan), 0.37);
+
+  // Two blocks with unknown space between them (inside the grid's extent).
+  octomap::OcTree tree(0.05);
+  for (double x : {0.025, 0.975})
+    for (double y = 0.025; y < 0.5; y += 0.05) tree.updateNode(octomap::point3d(x, y, 0.225), true);
+  tree.updateNode(octomap::point3d(0.525, 0.025, 0.625), false);  // free: still no ground there
+  const HeightMap blocks = HeightMap::fromOcTree(tree, -0.4);
+  EXPECT_EQ(blocks.columnsX(), 20u);
+  EXPECT_EQ(blocks.knownColumns(), 20u);
+  EXPECT_NEAR(blocks.height(0.01, 0.2), 0.25, 1e-6);
+  EXPECT_NEAR(blocks.height(0.99, 0.2), 0.25, 1e-6);
+  EXPECT_EQ(blocks.height(0.5, 0.2), -0.4);
+  EXPECT_EQ(blocks.height(0.53, 0.01), -0.4);
+
+  const HeightMap flat(0.2);
+  EXPECT_EQ(flat.height(3.0, -4.0), 0.2);
+  EXPECT_EQ(flat.slope(3.0, -4.0).dzdx, 0.0);
+  EXPECT_EQ(flat.normal(3.0, -4.0)[2], 1.0);
+}
+
+TEST(HeightMap, SlopeOfARampAndOfAStepEdge) {
+  // A 45° ramp in x up to 0.5 m, 2 cm cells: one cell of rise per cell of run. (Raised by a
+  // quarter cell so that no column's height falls on a cell centre, where rounding decides.)
+  const auto tree =
+      maps::makeTerrainMap([](double x, double) { return std::clamp(x, 0.0, 0.5) + kRes / 4; },
+                           kRes, {-0.5, 1.0, -0.3, 0.3});
+  const HeightMap ramp = HeightMap::fromOcTree(*tree, 0.0);
+  for (double x = 0.05; x < 0.45; x += 0.04) {
+    const Slope s = ramp.slope(x, 0.1);
+    EXPECT_NEAR(s.dzdx, 1.0, 1e-6) << x;
+    EXPECT_NEAR(s.dzdy, 0.0, 1e-6) << x;
+    const auto n = ramp.normal(x, 0.1);
+    EXPECT_NEAR(n[0], -std::sqrt(0.5), 1e-6);
+    EXPECT_NEAR(n[2], std::sqrt(0.5), 1e-6);
+  }
+  EXPECT_NEAR(ramp.slope(0.8, 0.0).dzdx, 0.0, 1e-9);
+  const HeightMap stage = HeightMap::fromFile(exampleMap("lab-stage.bt"), 0.0);
+  EXPECT_GT(stage.slope(1.5, 0.0).dzdx, 3.0);  // 14–16 cm over two cells: an edge
+  EXPECT_NEAR(stage.slope(2.5, 0.0).dzdx, 0.0, 1e-9);
+}
+
+TEST(HeightMap, QueriesAllocateNothing) {
+  const HeightMap map = HeightMap::fromFile(exampleMap("lab-steps.bt"), 0.0);
+  double sum = 0;
+  EXPECT_EQ(test::allocationsIn([&] {
+              for (double x = -3; x < 7; x += 0.01) {
+                sum += map.height(x, 0.3);
+                sum += map.slope(x, 0.3).dzdx + map.normal(x, 0.3)[2];
+              }
+            }),
+            0);
+  EXPECT_GT(sum, 0.0);
+}
+
+std::string path(const std::string& name) {
+  return ::testing::TempDir() + name;
+}
+
+/// Why fromFile refuses `file` ("" if it does not).
+std::string errorOf(const std::string& file) {
+  std::string what;
+  try {
+    HeightMap::fromFile(file, 0.0);
+  } catch (const MapError& e) {
+    what = e.what();
+  }
+  return what;
+}
+
+/// Why fromFile refuses the temporary file `name`, once the message has named it ("map
+/// <path>: "); the whole message if it does not.
+std::string reason(const std::string& name) {
+  const std::string prefix = "map " + path(name) + ": ", what = errorOf(path(name));
+  return what.rfind(prefix, 0) == 0 ? what.substr(prefix.size()) : what;
+}
+
+TEST(MapFiles, EveryFailureNamesTheFileAndTheReason) {
+  EXPECT_EQ(errorOf("/no/such/map.bt"),
+            "map /no/such/map.bt: cannot read it: No such file or directory");
+  std::ofstream(path("text.bt")) << "not a map\n";
+  EXPECT_EQ(reason("text.bt"), "not a readable OctoMap binary (.bt) file");
+  std::ofstream(path("text.ot")) << "not a map\n";
+  EXPECT_EQ(reason("text.ot"), "not an OctoMap OcTree (.ot) file");
+  octomap::ColorOcTree color(0.1);
+  color.updateNode(octomap::point3d(0, 0, 0), true);
+  ASSERT_TRUE(color.write(path("color.ot")));
+  EXPECT_EQ(reason("color.ot"), "not an OctoMap OcTree (.ot) file");
+  std::ofstream(path("map.png")) << "x";
+  EXPECT_EQ(reason("map.png"), "expected an OctoMap file (.bt or .ot)");
+  ASSERT_TRUE(octomap::OcTree(0.1).writeBinaryConst(path("empty.bt")));
+  EXPECT_EQ(reason("empty.bt"), "the map has no occupied cells");
+  octomap::OcTree freeOnly(0.1);
+  freeOnly.updateNode(octomap::point3d(0, 0, 0), false);
+  ASSERT_TRUE(freeOnly.write(path("free.ot")));
+  EXPECT_EQ(reason("free.ot"), "the map has no occupied cells");
+}
+
+TEST(MapFiles, BinaryAndFullFilesOfOneMapGiveTheSameHeights) {
+  const auto tree =
+      maps::makeTerrainMap(maps::steps(2, 0.06, 0.2, 0.1, 0.4), 0.02, {-0.2, 0.8, -0.3, 0.3});
+  std::string error;
+  ASSERT_TRUE(maps::writeTerrainMap(*tree, path("two.bt"), error)) << error;
+  ASSERT_TRUE(maps::writeTerrainMap(*tree, path("two.ot"), error)) << error;
+  const HeightMap bt = HeightMap::fromFile(path("two.bt"), 0.0);
+  const HeightMap ot = HeightMap::fromFile(path("two.ot"), 0.0);
+  const HeightMap direct = HeightMap::fromOcTree(*tree, 0.0);
+  for (double x = -0.19; x < 0.8; x += 0.02) {
+    EXPECT_NEAR(direct.height(x, 0.0),
+                quantised(x < 0.1   ? 0.0
+                          : x < 0.3 ? 0.06
+                                    : 0.12,
+                          0.02),
+                1e-6)
+        << x;
+    EXPECT_EQ(bt.height(x, 0.0), direct.height(x, 0.0)) << x;
+    EXPECT_EQ(ot.height(x, 0.0), direct.height(x, 0.0)) << x;
+  }
+}
+
+}  // namespace
+}  // namespace ballast::terrain
