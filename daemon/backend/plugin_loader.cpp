@@ -3,6 +3,7 @@
 #include <dlfcn.h>
 #include <unistd.h>
 
+#include <climits>
 #include <cstdlib>
 #include <sstream>
 
@@ -29,6 +30,17 @@ std::string pluginFileName(const std::string& name) { return "libballast_backend
 std::vector<std::string> defaultPluginDirs() {
   std::vector<std::string> dirs;
   if (const char* env = std::getenv("BALLAST_PLUGIN_PATH")) dirs = split(env, ':');
+  // Next to the running program first, so an installed tree moved elsewhere (or installed
+  // with another prefix or DESTDIR) loads its own plugins, not the build tree's.
+  char exe[4096];
+  const ssize_t n = readlink("/proc/self/exe", exe, sizeof exe - 1);
+  if (n > 0) {
+    const std::string program(exe, static_cast<std::size_t>(n));
+    const std::string dir =
+        program.substr(0, program.rfind('/')) + "/" + BALLAST_PLUGIN_DIR_FROM_BINDIR;
+    char canonical[PATH_MAX];
+    dirs.push_back(realpath(dir.c_str(), canonical) ? std::string(canonical) : dir);
+  }
   dirs.push_back(BALLAST_BUILD_PLUGIN_DIR);
   dirs.push_back(BALLAST_INSTALL_PLUGIN_DIR);
   return dirs;
