@@ -10,7 +10,7 @@ VX=$4 VY=$5 WZ=$6 TOL=$7
 start_daemon
 wait_until "stand" 30 mode_is stand
 ballast walk --vx "$VX" --vy "$VY" --yaw-rate "$WZ" --for 11s >/dev/null || fail "walk"
-[ "$(field mode)" = walk ] || fail "not walking"
+wait_until "the loop to take the walk command" 10 mode_is walk
 sim_time_passes 5
 ballast record start "$WORK/walk.tsv" >/dev/null || fail "record start"
 t0=$(field t) x0=$(field truth.base.position.0) y0=$(field truth.base.position.1)
