@@ -174,6 +174,9 @@ double velocityDuringLeftFootSlip(double gate) {
   Standing s;
   EstimatorSettings settings;
   settings.kinematicsVelocityGate = gate;
+  // The gate counts in σ of the leg velocity: at 0.05 m/s, 5σ puts it at 0.25 m/s, below the
+  // ~0.4 m/s this hip swing gives the foot (the default σ, 0.2, lets slower creep through).
+  settings.kinematicsVelocityNoise = 0.05;
   StateEstimator est(s.m, settings);
   EstimatorInput in = est.makeInput();
   EstimatorOutput out;
