@@ -463,14 +463,7 @@ void ControlLoop::publish() {
 
 void ControlLoop::updateTruth() {
   if (!sensors_.has_truth) return;
-  const backend::Truth& tr = sensors_.truth;
-  for (int i = 0; i < 3; ++i) {
-    truth_.position[i] = tr.base_position[i];
-    truth_.linear_velocity[i] = tr.base_linear_velocity[i];
-    truth_.angular_velocity[i] = tr.base_angular_velocity[i];
-  }
-  for (int i = 0; i < 4; ++i) truth_.orientation[i] = tr.base_orientation[i];
-  fillRpy(truth_);
+  baseStateFromTruth(sensors_.truth, truth_);
 }
 
 void ControlLoop::record() {

@@ -10,6 +10,16 @@ void fillRpy(BaseState& base) {
   for (int i = 0; i < 3; ++i) base.rpy[i] = rpy[i];
 }
 
+void baseStateFromTruth(const backend::Truth& truth, BaseState& base) {
+  for (int i = 0; i < 3; ++i) {
+    base.position[i] = truth.base_position[i];
+    base.linear_velocity[i] = truth.base_linear_velocity[i];
+    base.angular_velocity[i] = truth.base_angular_velocity[i];
+  }
+  for (int i = 0; i < 4; ++i) base.orientation[i] = truth.base_orientation[i];
+  fillRpy(base);
+}
+
 LoopEstimator::LoopEstimator(const model::Model& model, const ControlSettings& settings)
     : model_(model),
       settings_(&settings),
@@ -48,13 +58,7 @@ bool LoopEstimator::update(const backend::Sensors& sensors, const double* q, con
   BaseState& b = out.base;
   if (settings_->use_truth && sensors.has_truth) {
     const backend::Truth& tr = sensors.truth;
-    for (int i = 0; i < 3; ++i) {
-      b.position[i] = tr.base_position[i];
-      b.linear_velocity[i] = tr.base_linear_velocity[i];
-      b.angular_velocity[i] = tr.base_angular_velocity[i];
-    }
-    for (int i = 0; i < 4; ++i) b.orientation[i] = tr.base_orientation[i];
-    fillRpy(b);
+    baseStateFromTruth(tr, b);
     for (int c = 0; c < kNumContacts; ++c) {
       out.contact[c] = tr.contact[c];
       for (int i = 0; i < 3; ++i) out.contact_position[c][i] = output_.contactPosition[c][i];

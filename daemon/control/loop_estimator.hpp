@@ -45,5 +45,7 @@ class LoopEstimator {
 
 /// base.rpy from base.orientation.
 void fillRpy(BaseState& base);
+/// The simulation's ground-truth base state (pose, twist, rpy) into `base`.
+void baseStateFromTruth(const backend::Truth& truth, BaseState& base);
 
 }  // namespace ballast::control
