@@ -180,6 +180,7 @@ void ControlLoop::tick() {
   updateTruth();
   record();
   publish();
+  sendReplies();
   ++ticks_;
   backendStatus(backend_.advance(), "advance");
 }
@@ -275,9 +276,9 @@ void ControlLoop::readSensors() {
 
 void ControlLoop::handleCommands() {
   OperatorCommand c;
-  // A bounded number per tick keeps a flood of requests from stretching one tick.
-  for (int n = 0; n < 8 && commands_.tryPop(c); ++n) {
-    CommandReply reply;
+  while (num_tick_replies_ < kCommandsPerTick && commands_.tryPop(c)) {
+    CommandReply& reply = tick_replies_[num_tick_replies_++];
+    reply = CommandReply{};
     reply.sequence = c.sequence;
     if (shutting_down_) {
       reply.refusal = Refusal::kRefused;
@@ -312,9 +313,13 @@ void ControlLoop::handleCommands() {
       reply.refusal = modes_.handle(c, t_, s, reply.message);
     }
     reply.mode = modes_.mode();
-    replies_.tryPush(reply);
-    notifyIo();
   }
+}
+
+void ControlLoop::sendReplies() {
+  for (int i = 0; i < num_tick_replies_; ++i) replies_.tryPush(tick_replies_[i]);
+  if (num_tick_replies_ > 0) notifyIo();
+  num_tick_replies_ = 0;
 }
 
 void ControlLoop::applySettings(const ControlSettings* next, CommandReply& reply) {

@@ -9,7 +9,8 @@
 //
 // It talks to the other threads only through lock-free structures sized at construction:
 // commands arrive in an SPSC ring from the IO thread, replies and log events leave in two
-// more, the status is published through a seqlock, telemetry frames through a ring the writer
+// more (a tick's replies leave after its status is published, so a client that has its reply
+// never reads a status from before its command), the status is published through a seqlock, telemetry frames through a ring the writer
 // thread drains, and a profile switch arrives as a pointer inside a command (the old settings
 // go back in the reply for the IO side to free). tick() allocates nothing and takes no lock
 // (test/unit/control/no_allocation_test.cpp interposes malloc to check).
@@ -89,6 +90,7 @@ class ControlLoop {
   void guardCommands();
   void writeCommands();
   void publish();
+  void sendReplies();
   void updateTruth();
   void record();
   void raise(FaultKind kind, const char* message);
@@ -119,6 +121,9 @@ class ControlLoop {
 
   SpscRing<OperatorCommand> commands_;
   SpscRing<CommandReply> replies_;
+  static constexpr int kCommandsPerTick = 8;  // a flood of requests never stretches one tick
+  std::array<CommandReply, kCommandsPerTick> tick_replies_{};
+  int num_tick_replies_ = 0;
   SpscRing<LoopEvent> events_;
   SeqLock<LoopStatus> status_;
   TelemetryRing telemetry_;

@@ -248,6 +248,68 @@ TEST_F(NoAllocation, TheLoopAllocatesNothingPerTick) {
   std::filesystem::remove(file);
 }
 
+/// Delegates to the fake and, at every backend call inside a tick, takes any reply the loop has
+/// already let out and checks that the published status is at least as new as it.
+class ReplyWatchingBackend final : public backend::Backend {
+ public:
+  explicit ReplyWatchingBackend(backend::Backend& inner) : inner_(inner) {}
+  bool configure(const backend::Config& c, backend::Error& e) override {
+    return inner_.configure(c, e);
+  }
+  const backend::Capabilities& capabilities() const override { return inner_.capabilities(); }
+  bool start(backend::Error& e) override { return inner_.start(e); }
+  backend::Status read(backend::Sensors& s) override {
+    check();
+    return inner_.read(s);
+  }
+  backend::Status write(const backend::Commands& c) override {
+    check();
+    return inner_.write(c);
+  }
+  backend::Status advance() override {
+    check();
+    return inner_.advance();
+  }
+  const backend::Error& lastError() const override { return inner_.lastError(); }
+  void stop() override { inner_.stop(); }
+
+  ControlLoop* loop = nullptr;
+  int replies = 0, stale = 0;
+
+ private:
+  void check() {
+    CommandReply r;
+    while (loop && loop->popReply(r)) {
+      ++replies;
+      if (loop->status().mode != r.mode) ++stale;
+    }
+  }
+  backend::Backend& inner_;
+};
+
+TEST_F(LoopOnFake, RepliesLeaveOnlyAfterTheStatusOfTheirTick) {
+  // A client that has its reply and then asks for status must see the command's effect (the
+  // acceptance scripts and the CLI rely on it): reset -> passive, not the damp before it.
+  loop_.reset();
+  ReplyWatchingBackend watcher(*backend_);
+  LoopOptions options;
+  options.lockstep = true;
+  loop_ = std::make_unique<ControlLoop>(test::humanoid(), watcher, settings_, options);
+  watcher.loop = loop_.get();
+  const CommandKind kinds[] = {CommandKind::kStand, CommandKind::kEstop, CommandKind::kReset,
+                               CommandKind::kStand, CommandKind::kPassive};
+  for (CommandKind k : kinds) {
+    OperatorCommand c;
+    c.kind = k;
+    c.sequence = ++sequence_;
+    ASSERT_TRUE(loop_->submit(c));
+    ticks(2);
+  }
+  EXPECT_EQ(watcher.replies, 5);
+  EXPECT_EQ(watcher.stale, 0);
+  loop_.reset();  // before the watcher it points at
+}
+
 TEST_F(LoopOnFake, StatusReadersNeverHoldTheLoopUp) {
   std::atomic<bool> done{false};
   std::atomic<long> reads{0};
