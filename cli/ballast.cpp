@@ -42,6 +42,17 @@ struct Options {
   double timeout = 10.0;
 };
 
+/// A refusal the CLI itself reports (or passes on): JSON on stdout with --json, else a line on
+/// stderr. Returns kRefused.
+int refuse(const Options& o, const std::string& code, const std::string& message) {
+  if (o.json)
+    std::cout << text(json{{"ok", false}, {"error", {{"code", code}, {"message", message}}}})
+              << "\n";
+  else
+    std::fprintf(stderr, "ballast: %s\n", message.c_str());
+  return kRefused;
+}
+
 int usage(const std::string& message) {
   std::fprintf(stderr, "ballast: %s (see `ballast --help` or ballast(1))\n", message.c_str());
   return kUsage;
@@ -152,11 +163,9 @@ int watch(Session& s, const Options& o, double rate, bool joints, int count) {
   if (const int c = s.connect(); c != kOk) return c;
   json reply;
   const int code = s.call({{"cmd", "watch"}, {"rate", rate}, {"joints", joints}}, reply);
-  if (code != kOk) {
-    if (code == kRefused)
-      std::fprintf(stderr, "ballast: %s\n", reply["error"].value("message", "").c_str());
-    return code;
-  }
+  if (code != kOk)
+    return code == kRefused ? refuse(o, Session::errorCode(reply), reply["error"].value("message", ""))
+                            : code;
   signal(SIGINT, [](int) { interrupted = true; });
   const bool tty = ::isatty(STDOUT_FILENO) && !o.json;
   for (int n = 0; !interrupted && (count <= 0 || n < count);) {
@@ -184,16 +193,10 @@ int plot(const std::string& file, const std::string& out, const std::string& tit
          const Options& o) {
   cli::TelemetryTable table;
   std::string error;
-  if (!cli::readTelemetry(file, table, error)) {
-    std::fprintf(stderr, "ballast: %s\n", error.c_str());
-    return kRefused;
-  }
+  if (!cli::readTelemetry(file, table, error)) return refuse(o, "bad_recording", error);
   const std::string script = cli::plotScript(
       table, file, out, title.empty() ? "ballast: " + fs::path(file).filename().string() : title);
-  if (!cli::runGnuplot(script, error)) {
-    std::fprintf(stderr, "ballast: %s\n", error.c_str());
-    return kRefused;
-  }
+  if (!cli::runGnuplot(script, error)) return refuse(o, "plot_failed", error);
   if (o.json)
     std::cout << json{{"ok", true}, {"output", out}, {"frames", table.rows}}.dump() << "\n";
   else
@@ -316,18 +319,14 @@ int main(int argc, char** argv) {
     json reply;
     const int code = s.call({{"cmd", "status"}, {"joints", joints}}, reply);
     if (code == kNoDaemon) return code;
-    if (code != kOk) {
-      std::fprintf(stderr, "ballast: %s\n", reply["error"].value("message", "").c_str());
-      return code;
-    }
+    if (code != kOk)
+      return refuse(o, Session::errorCode(reply), reply["error"].value("message", ""));
     const json& st = reply["status"];
     if (!get.empty()) {
       std::string value;
-      if (!cli::lookup(st, get, value)) {
-        std::fprintf(stderr, "ballast: status has no field '%s' (see `ballast status --json`)\n",
-                     get.c_str());
-        return kRefused;
-      }
+      if (!cli::lookup(st, get, value))
+        return refuse(o, "no_field",
+                      "status has no field '" + get + "' (see `ballast status --json`)");
       std::printf("%s\n", value.c_str());
     } else if (o.json) {
       std::cout << text(st) << "\n";

@@ -193,6 +193,7 @@ void ControlLoop::planPost() {
   if (!plan) {
     planning_ = false;
     have_plan_ = false;
+    planner_streak_ = 0;
     return;
   }
   if (!planning_ || planner_.due(t_)) {
@@ -207,17 +208,33 @@ void ControlLoop::planPost() {
     if (!answered) raise(FaultKind::kPlanner, "the planner did not answer in time");
   }
   const PlannerOutput* p = planner_.latest();
-  // Nothing new, or an answer to an input from before the restart.
-  if (!p || p->sequence == plan_.sequence || p->sequence < first_sequence_) return;
-  if (!p->valid) {
-    std::snprintf(message_, sizeof(message_), "the planner returned no valid plan: %.150s",
-                  p->message);
-    raise(FaultKind::kPlanner, message_);
-    plan_.sequence = p->sequence;  // reported once
-    return;
+  // A new answer, to an input from after the restart?
+  if (p && p->sequence != plan_.sequence && p->sequence != failed_sequence_ &&
+      p->sequence >= first_sequence_) {
+    if (!p->valid) {
+      // One failed solve is not a fall: the plan in force stays (checked for age below). The
+      // first failure of a streak is logged; all are counted.
+      if (planner_streak_++ == 0) {
+        std::snprintf(message_, sizeof(message_),
+                      "planner: no valid plan (%.150s); keeping the last one", p->message);
+        event(true, message_);
+      }
+      ++planner_failures_;
+      copyText(planner_message_, p->message);
+      failed_sequence_ = p->sequence;
+    } else {
+      plan_ = *p;  // a copy the planner cannot overwrite (about 80 kB, once per plan)
+      have_plan_ = true;
+      planner_streak_ = 0;
+    }
   }
-  plan_ = *p;  // a copy the planner cannot overwrite (about 80 kB, once per plan)
-  have_plan_ = true;
+  if (have_plan_ && t_ - plan_.t > settings_->max_plan_age) {
+    std::snprintf(message_, sizeof(message_),
+                  "no valid plan for %.3f s (safety.max_plan_age %.3f s): %.120s", t_ - plan_.t,
+                  settings_->max_plan_age,
+                  planner_streak_ > 0 ? planner_message_ : "the planner did not answer");
+    raise(FaultKind::kPlanner, message_);
+  }
 }
 
 double ControlLoop::secondsSince(std::uint64_t start_ns) const {
@@ -450,6 +467,7 @@ void ControlLoop::publish() {
   p.command = modes_.command();
   for (int c = 0; c < kNumContacts; ++c) p.contacts[c] = input_.state.contact[c];
   p.mpc_ms = have_plan_ ? plan_.solve_ms : 0.0;
+  p.planner_failures = planner_failures_;
   p.wbc_degraded_ticks = wbc_degraded_;
   p.wbc_ms = wbc_ms_;
   p.wbc_ms_max = wbc_ms_max_;

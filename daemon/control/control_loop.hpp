@@ -16,7 +16,9 @@
 // (test/unit/control/no_allocation_test.cpp interposes malloc to check).
 //
 // Faults (backend kFault/kOverrun/kStale, repeated sensor sequence, NaN in sensors or commands,
-// a fall) put the robot in damp until `reset`. Real time: advance() paces the loop and a tick
+// a fall, a plan older than safety.max_plan_age) put the robot in damp until `reset`. A planner
+// answer without a valid plan (solver failure, NaN) never reaches the motors: the loop keeps
+// the last valid plan, logs the first failure of a streak and counts them. Real time: advance() paces the loop and a tick
 // whose computation exceeds the period counts as an overrun. Lockstep: advance() steps the
 // simulation, so the loop runs as fast as the backend and simulation time is controller time.
 #pragma once
@@ -117,6 +119,10 @@ class ControlLoop {
   bool have_plan_ = false;
   bool planning_ = false;  // inputs are being posted (stand, walk)
   std::uint64_t first_sequence_ = 0;  // of the input that restarted planning
+  std::uint64_t failed_sequence_ = 0;  // of the last answer without a valid plan
+  std::uint64_t planner_failures_ = 0;
+  int planner_streak_ = 0;  // failed answers since the last valid plan
+  char planner_message_[kMessageLength] = {};
   std::uint64_t wbc_degraded_ = 0;
 
   SpscRing<OperatorCommand> commands_;

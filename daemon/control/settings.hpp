@@ -49,6 +49,7 @@ struct ControlSettings {
   double min_pose_height = 0.6, max_pose_height = 1.0;  ///< m
   double max_pose_tilt = 0.35, max_pose_yaw = 0.35;     ///< rad
   double max_push_force = 300.0, max_push_duration = 5.0;
+  double max_plan_age = 0.1;  ///< s: older plans are a planner fault
 
   // whole-body controller (stand and walk once a plan exists). Built with the settings on the
   // IO side, so a profile switch hands the loop a ready controller and nothing is allocated on

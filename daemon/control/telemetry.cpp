@@ -32,7 +32,7 @@ void put(std::string& line, double x) {
 void putBase(std::string& line, const BaseState& b, bool valid) {
   double f = kNaN, l = kNaN;
   if (valid) headingVelocity(b, f, l);
-  const double* groups[3] = {b.position, b.linear_velocity, b.rpy};
+  const double* groups[4] = {b.position, b.linear_velocity, b.rpy, b.angular_velocity};
   for (const double* g : groups)
     for (int i = 0; i < 3; ++i) put(line, valid ? g[i] : kNaN);
   put(line, f);
@@ -45,7 +45,8 @@ std::vector<std::string> telemetryColumns(const std::vector<std::string>& joints
   std::vector<std::string> c = {"t", "mode"};
   for (const char* prefix : {"", "true_"})
     for (const char* n :
-         {"x", "y", "z", "vx", "vy", "vz", "roll", "pitch", "yaw", "v_fwd", "v_lat"})
+         {"x", "y", "z", "vx", "vy", "vz", "roll", "pitch", "yaw", "wx", "wy", "wz", "v_fwd",
+          "v_lat"})
       c.push_back(std::string(prefix) + n);
   for (const char* n :
        {"cmd_vx", "cmd_vy", "cmd_yaw_rate", "cmd_height", "cmd_roll", "cmd_pitch", "cmd_yaw"})

@@ -4,11 +4,17 @@
 //     spanning D's null space. Inputs fall in three kinds, so the work goes only where it must:
 //     fixed ones (a row of D with a single entry and no C part, e.g. a swing point's force:
 //     δu_j = −e/d), constrained ones (in the other rows: the QR D_Kᵀ = [Y Z_K][R; 0] gives
-//     Kc_K = −Y R⁻ᵀ C, kc_K = −Y R⁻ᵀ e'), and free ones (in no row: w passes through);
-//  2. a backward Riccati recursion on (δx, w) gives the feedback w = K δx + k per node;
+//     Kc_K = Y·Ct with Ct = −R⁻ᵀ C, kc_K = −Y R⁻ᵀ e'), and free ones (in no row: w passes
+//     through). Kc_K is kept in that factored form: it has rank mg (the general rows, ≤ 10 of
+//     the 24 joint velocities it touches), so the products that carry it into the dynamics and
+//     the cost cost O(n²·mg) instead of O(n³);
+//  2. a backward Riccati recursion on (δx, w) gives the feedback w = K δx + k per node. With
+//     H_uu = L Lᵀ and G = L⁻¹ H_ux, the update P ← Q + AᵀPA − GᵀG is a symmetric rank-nw update,
+//     computed on one triangle;
 //  3. a forward pass from δx_0 (the initial-state defect) rolls out δx and δu.
 // The result is the exact minimiser of the LQ problem (checked against a direct KKT solve in
-// test/unit/mpc). Work arrays are allocated once per horizon length.
+// test/unit/mpc). Work arrays are allocated with the solver and reused; a node whose contact
+// mode changes size may reallocate its own.
 #pragma once
 
 #include <Eigen/Cholesky>
@@ -45,12 +51,17 @@ class RiccatiSolver {
 
  private:
   struct Projected {
-    std::vector<int> free, constrained;  ///< input indices by kind (fixed ones: the rest)
-    Eigen::MatrixXd KcK, ZK;             ///< Kc rows of the constrained inputs, their null basis
-    Eigen::VectorXd kc;                  ///< nu
-    Eigen::MatrixXd A, B, Q, R, S;       ///< the LQ problem in (δx, w)
+    std::vector<int> free, constrained, fixed, general;  ///< inputs by kind; general D rows
+    std::vector<char> kind;                              ///< per input (scratch)
+    Eigen::MatrixXd Y, Ct, ZK;  ///< Kc_K = Y·Ct (nK × mg, mg × nx); null basis of D_K (nK × nz)
+    Eigen::VectorXd kc;         ///< nu
+    Eigen::MatrixXd A, B, Q, R, S;  ///< the LQ problem in (δx, w)
     Eigen::VectorXd b, q, r;
     int nw = 0;
+    // Scratch of this node's projection (kept to reuse the memory).
+    Eigen::MatrixXd DKt, Qfull, BK, BY, RKK, RY, W, ZRY, RFK;
+    Eigen::VectorXd ePrime, Rkc, rK, ct;
+    Eigen::HouseholderQR<Eigen::MatrixXd> qr;
   };
   /// δu for a state deviation and w (step 1 undone).
   void inputStep(const Projected& p, const Eigen::VectorXd& dx, const Eigen::VectorXd& w,
@@ -61,7 +72,7 @@ class RiccatiSolver {
   std::vector<Eigen::MatrixXd> K_;
   std::vector<Eigen::VectorXd> k_;
   Eigen::MatrixXd P_, PA_, PB_, Huu_, Hux_;
-  Eigen::VectorXd p_, Pb_, hu_;
+  Eigen::VectorXd p_, Pb_, hu_, w_;
   RiccatiTimings timings_;
 };
 

@@ -165,6 +165,7 @@ const std::vector<Key> kTable = {
   number("safety.max_pose_height", "0.95", 0, 5, "m", "highest standing height `pose` may ask for"),
   number("safety.max_pose_tilt", "0.35", 0, 1.5, "rad", "largest standing roll or pitch `pose` may ask for"),
   number("safety.max_pose_yaw", "0.35", 0, 1.5, "rad", "largest standing yaw `pose` may ask for"),
+  number("safety.max_plan_age", "0.1", 0.01, 1, "s", "a failed planner solve keeps the last plan; stand or walk on a plan older than this is a fault (damp)"),
   number("safety.max_push_force", "300", 0, 1e4, "N", "largest push (simulation)"),
   number("safety.max_push_duration", "5", 0, 60, "s", "longest push (simulation)"),
 

@@ -144,6 +144,7 @@ control::ControlSettings buildSettings(const Profile& p, const model::Model& mod
   s.max_pose_tilt = p.number("safety.max_pose_tilt");
   s.max_pose_yaw = p.number("safety.max_pose_yaw");
   s.max_push_force = p.number("safety.max_push_force");
+  s.max_plan_age = p.number("safety.max_plan_age");
   s.max_push_duration = p.number("safety.max_push_duration");
 
   // planner, telemetry

@@ -11,6 +11,8 @@
 //   overrun_at: -1            advance() returns kOverrun at this time (once)
 //   nan_at: -1                joint 0's position is NaN at this time (once)
 //   tilt_at: -1               the base tips over (1.2 rad about x) from this time on
+//   sink_at: -1               the base sinks to 0.3 m, level, from this time on
+//   disturbance: true         takes external pushes (false: like hardware, it refuses them)
 //   non_foot_contact_at: -1   ground truth reports a non-foot contact from this time on
 //   fail_configure: false     configure() fails (for the startup error path)
 //
@@ -53,7 +55,8 @@ class FakeBackend final : public Backend {
     const int line = std::atoi(origin.substr(origin.rfind(':') + 1).c_str());
     static const char* kKeys[] = {"base_height", "reverse_joints",      "fault_at",
                                   "stale_at",    "overrun_at",          "nan_at",
-                                  "tilt_at",     "non_foot_contact_at", "fail_configure"};
+                                  "tilt_at",     "non_foot_contact_at", "fail_configure",
+                                  "sink_at",     "disturbance"};
     if (section.IsMap())
       for (const auto& kv : section) {
         const std::string key = kv.first.Scalar();
@@ -74,6 +77,7 @@ class FakeBackend final : public Backend {
     overrun_at_ = num("overrun_at", -1);
     nan_at_ = num("nan_at", -1);
     tilt_at_ = num("tilt_at", -1);
+    sink_at_ = num("sink_at", -1);
     non_foot_at_ = num("non_foot_contact_at", -1);
     if (section["fail_configure"] && section["fail_configure"].as<bool>()) {
       copyMessage(error, (origin + ": fail_configure: asked to fail").c_str());
@@ -101,7 +105,7 @@ class FakeBackend final : public Backend {
     caps_.simulation = true;
     caps_.lockstep = true;
     caps_.ground_truth = true;
-    caps_.disturbance = true;
+    caps_.disturbance = !section["disturbance"] || section["disturbance"].as<bool>();
     caps_.num_joints = static_cast<int>(names.size());
     for (std::size_t j = 0; j < names.size(); ++j)
       std::snprintf(caps_.joint_names[j], kNameLength, "%s", names[j].c_str());
@@ -141,7 +145,8 @@ class FakeBackend final : public Backend {
     s.has_truth = true;
     Truth& t = s.truth;
     t.base_position[0] = t.base_position[1] = 0.0;
-    t.base_position[2] = tilted ? 0.3 : base_height_;
+    const bool sunk = sink_at_ >= 0 && time_ >= sink_at_;
+    t.base_position[2] = tilted || sunk ? 0.3 : base_height_;
     std::memcpy(t.base_orientation, quat, sizeof(quat));
     for (int c = 0; c < 4; ++c) t.contact[c] = !tilted;
     t.non_foot_contact = non_foot_at_ >= 0 && time_ >= non_foot_at_;
@@ -205,7 +210,7 @@ class FakeBackend final : public Backend {
   Error error_;
   double period_ = 0.001, time_ = 0.0, base_height_ = 0.9;
   double fault_at_ = -1, stale_at_ = -1, overrun_at_ = -1, nan_at_ = -1, tilt_at_ = -1,
-         non_foot_at_ = -1;
+         sink_at_ = -1, non_foot_at_ = -1;
   bool lockstep_ = false;
   std::uint64_t sequence_ = 0;
   double q_[kMaxJoints] = {}, dq_[kMaxJoints] = {}, tau_[kMaxJoints] = {};

@@ -57,8 +57,27 @@ INSTANTIATE_TEST_SUITE_P(
                       FaultCase{"overrun", "overrun_at", "backend_overrun", "overrun"},
                       FaultCase{"nan", "nan_at", "nan", "is not a number"},
                       FaultCase{"tilt", "tilt_at", "fall", "base tilted"},
+                      FaultCase{"low", "sink_at", "fall", "base height 0.300 m"},
                       FaultCase{"contact", "non_foot_contact_at", "fall", "other than the feet"}),
     [](const auto& info) { return std::string(info.param.name); });
+
+TEST(Push, RefusedByABackendWithoutADisturbanceInput) {
+  const fs::path dir = scratchDir();
+  const std::string profile =
+      writeFile(dir / "p.yaml", "extends: " + std::string(STANDING_FAKE_PROFILE) +
+                                    "\nbackend:\n  fake:\n    disturbance: false\n");
+  Daemon d(dir, profile);
+  ASSERT_TRUE(d.running()) << d.log();
+  const Outcome r = d.cli({"--json", "push", "--force", "10,0,0", "--duration", "0.1"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.parsed()["error"]["code"], "unavailable") << r.out;
+  EXPECT_NE(r.parsed()["error"]["message"].get<std::string>().find("simulation only"),
+            std::string::npos)
+      << r.out;
+  EXPECT_TRUE(d.status()["faults"].empty());
+  EXPECT_EQ(d.stop(), 0) << d.log();
+  fs::remove_all(dir);
+}
 
 TEST(FallDetection, OnlyWhileStanding) {
   // Passive robots are not "falling" into damp: the fall shows in status only.

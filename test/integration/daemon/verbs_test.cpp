@@ -4,6 +4,8 @@
 // SIGTERM stops it with status 0 and no socket left.
 #include <octomap/OcTree.h>
 
+#include <cmath>
+
 #include "test/integration/daemon/daemon_harness.hpp"
 
 namespace ballast::test {
@@ -74,6 +76,9 @@ TEST_F(Verbs, StatusHumanGetAndWatch) {
   r = cli({"status", "--get", "no.such.field"});
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("no field"), std::string::npos);
+  r = cli({"--json", "status", "--get", "no.such.field"});  // scripts get the refusal as JSON
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.parsed()["error"]["code"], "no_field") << r.out;
   // --watch: a stream of status objects, one per line, simulated time moving on.
   r = cli({"--json", "status", "--watch", "--rate", "50", "--count", "3"});
   ASSERT_EQ(r.status, 0) << r.err;
@@ -86,6 +91,14 @@ TEST_F(Verbs, StatusHumanGetAndWatch) {
   r = cli({"status", "--watch", "--count", "1"});
   EXPECT_EQ(r.status, 0);
   EXPECT_NE(r.out.find("mode"), std::string::npos);
+  // The rate bounds the stream (wall time): 4 updates at 5 per second span at least 0.6 s.
+  const auto start = std::chrono::steady_clock::now();
+  r = cli({"--json", "status", "--watch", "--rate", "5", "--count", "4"});
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_EQ(r.status, 0);
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 4);
+  EXPECT_GE(elapsed, 0.55);
 }
 
 TEST_F(Verbs, StandWalkAndStop) {
@@ -131,6 +144,14 @@ TEST_F(Verbs, PoseMovesTheBaseWithinTheProfileLimits) {
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("safety.max_pose_tilt"), std::string::npos) << r.err;
   EXPECT_DOUBLE_EQ(daemon_->status()["command"]["height"].get<double>(), 0.82);
+  r = cli({"pose", "--height", "0.86", "--yaw", "-6deg"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(daemon_->waitFor([](const json& s) {
+    return std::abs(s["truth"]["base"]["rpy"][2].get<double>() + 6 * M_PI / 180) < 0.01;
+  })) << daemon_->status().dump();
+  r = cli({"pose", "--yaw", "30deg"});  // beyond safety.max_pose_yaw
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("safety.max_pose_yaw"), std::string::npos) << r.err;
   r = cli({"pose"});  // back to nominal (the loop takes the command at its next tick)
   EXPECT_EQ(r.status, 0);
   EXPECT_TRUE(daemon_->waitFor([](const json& s) {
@@ -166,9 +187,9 @@ TEST_F(Verbs, PassiveThenStandUp) {
   EXPECT_EQ(daemon_->status()["mode"], "passive");
   r = cli({"stand"});
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_TRUE(r.out.find("stand-up") != std::string::npos ||
-              r.out.find("mode stand") != std::string::npos)
-      << r.out;
+  EXPECT_NE(r.out.find("mode stand-up"), std::string::npos) << r.out;
+  EXPECT_TRUE(daemon_->waitForMode("stand")) << daemon_->status().dump();
+  EXPECT_EQ(daemon_->status()["fallen"], false);
 }
 
 TEST_F(Verbs, PushIsBoundedByTheProfile) {
@@ -195,10 +216,46 @@ TEST_F(Verbs, RecordThenPlot) {
   ASSERT_EQ(r.status, 0) << r.err;
   const long frames = r.parsed()["frames"].get<long>();
   EXPECT_GT(frames, 300);
-  // One line per control tick, every column filled.
+  // One line per control tick; standing under the whole-body controller on the plan, the
+  // columns the plots and scripts read are all filled.
   const std::string text = readFile(file);
   EXPECT_EQ(text.rfind("# ballast telemetry 1\n# t\tmode\t", 0), 0u);
   EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), frames + 2);
+  std::istringstream lines(text);
+  std::string line;
+  std::getline(lines, line);
+  std::getline(lines, line);
+  std::vector<std::string> columns;
+  {
+    std::istringstream header(line.substr(2));
+    for (std::string c; std::getline(header, c, '\t');) columns.push_back(c);
+  }
+  const std::vector<std::string> wanted = {
+      "x", "vz", "yaw", "wx", "wz", "v_fwd", "true_x", "true_wz", "cmd_height", "contact_3",
+      "err_p1", "err_p2", "err_p3", "err_p4", "mpc_ms", "wbc_ms", "limb_err",
+      "q_left_knee", "tau_right_elbow", "qref_left_shoulder_pitch"};
+  std::vector<std::size_t> at;
+  for (const auto& w : wanted) {
+    const auto it = std::find(columns.begin(), columns.end(), w);
+    ASSERT_NE(it, columns.end()) << w;
+    at.push_back(static_cast<std::size_t>(it - columns.begin()));
+  }
+  long rows = 0;
+  double mpc = 0, wbc = 0;
+  while (std::getline(lines, line)) {
+    std::vector<double> v;
+    std::istringstream fields(line);
+    for (std::string f; std::getline(fields, f, '\t');) v.push_back(std::strtod(f.c_str(), nullptr));
+    ASSERT_EQ(v.size(), columns.size());
+    for (std::size_t i = 0; i < wanted.size(); ++i)
+      ASSERT_TRUE(std::isfinite(v[at[i]])) << wanted[i] << " in row " << rows;
+    mpc = std::max(mpc, v[at[14]]);
+    wbc = std::max(wbc, v[at[15]]);
+    ++rows;
+  }
+  EXPECT_EQ(rows, frames);
+  EXPECT_GT(mpc, 0.0);
+  EXPECT_GT(wbc, 0.0);
   r = cli({"plot", file, "-o", png});
   ASSERT_EQ(r.status, 0) << r.err << r.out;
   const std::string image = readFile(png);
@@ -207,8 +264,9 @@ TEST_F(Verbs, RecordThenPlot) {
   r = cli({"record", "stop"});
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("not recording"), std::string::npos);
-  r = cli({"plot", (dir_ / "missing.tsv").string(), "-o", png});
+  r = cli({"--json", "plot", (dir_ / "missing.tsv").string(), "-o", png});
   EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.parsed()["error"]["code"], "bad_recording") << r.out;
 }
 
 TEST_F(Verbs, ProfileListShowUse) {

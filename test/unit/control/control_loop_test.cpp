@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <thread>
 
@@ -64,6 +65,14 @@ class LoopOnFake : public ::testing::Test {
   }
   void ticks(int n) {
     for (int i = 0; i < n; ++i) loop_->tick();
+  }
+  /// Stands the robot up and ticks until the loop is in stand (false if it never gets there).
+  bool standUp() {
+    OperatorCommand c;
+    c.kind = CommandKind::kStand;
+    command(c);
+    for (int i = 0; i < 2000 && loop_->status().mode != Mode::kStand; ++i) loop_->tick();
+    return loop_->status().mode == Mode::kStand;
   }
   const char* section_ = "{}";
   ControlSettings settings_;
@@ -130,15 +139,86 @@ TEST_F(LoopOnFake, PlannerSlotRunsAtItsRateInControllerTimeWhileStanding) {
   ticks(300);
   EXPECT_TRUE(loop_->status().planner_available);
   EXPECT_EQ(planner.calls.load(), 0);  // passive: nothing to plan
-  OperatorCommand c;
-  c.kind = CommandKind::kStand;
-  command(c);
-  for (int i = 0; i < 5000 && loop_->status().mode != Mode::kStand; ++i) loop_->tick();
-  ASSERT_EQ(loop_->status().mode, Mode::kStand);
+  ASSERT_TRUE(standUp());
   EXPECT_LE(planner.calls.load(), 1);  // none during stand-up
   const int before = planner.calls.load();
   ticks(1000);  // 1 s of controller time at planner.rate 100 Hz, synchronous in lockstep
   EXPECT_NEAR(planner.calls.load() - before, 100, 1);
+}
+
+/// The real planner, with answers invalidated on demand (a solver failure as the loop sees it).
+class FailingPlanner : public Planner {
+ public:
+  explicit FailingPlanner(Planner& inner) : inner_(inner) {}
+  void plan(const PlannerInput& in, PlannerOutput& out) override {
+    inner_.plan(in, out);
+    if (failing.load()) {
+      out.valid = false;
+      copyText(out.message, "injected: no step reduced cost or constraint violation");
+    }
+  }
+  std::atomic<bool> failing{false};
+
+ private:
+  Planner& inner_;
+};
+
+TEST_F(LoopOnFake, APlannerFailureKeepsTheLastPlanUntilItIsTooOld) {
+  MpcPlanner mpc(test::humanoid(), settings_, std::make_shared<const terrain::HeightMap>());
+  FailingPlanner planner(mpc);
+  loop_->attachPlanner(&planner);
+  ASSERT_TRUE(standUp());
+  ticks(100);
+  LoopEvent e;
+  while (loop_->popEvent(e)) {
+  }
+  // Five failed answers (50 ms at 100 Hz, within safety.max_plan_age 0.1 s): still standing on
+  // the last plan, the failures counted, one warning for the streak.
+  ASSERT_NEAR(settings_.max_plan_age, 0.1, 1e-12);
+  planner.failing = true;
+  ticks(50);
+  planner.failing = false;
+  ticks(100);
+  LoopStatus s = loop_->status();
+  EXPECT_EQ(s.mode, Mode::kStand);
+  EXPECT_EQ(s.faults.size, 0);
+  EXPECT_EQ(s.planner_failures, 5u);
+  int warnings = 0;
+  while (loop_->popEvent(e))
+    if (e.warning && std::strstr(e.message, "keeping the last one")) ++warnings;
+  EXPECT_EQ(warnings, 1);
+  // A planner that keeps failing: the plan grows older than 0.1 s, a planner fault damps.
+  planner.failing = true;
+  ticks(150);
+  s = loop_->status();
+  EXPECT_EQ(s.mode, Mode::kDamp);
+  ASSERT_EQ(s.faults.size, 1);
+  EXPECT_EQ(s.faults.fault[0].kind, FaultKind::kPlanner);
+  EXPECT_NE(std::strstr(s.faults.fault[0].message, "safety.max_plan_age"), nullptr)
+      << s.faults.fault[0].message;
+  EXPECT_NE(std::strstr(s.faults.fault[0].message, "injected"), nullptr);
+  EXPECT_NEAR(s.faults.fault[0].t, s.t - 0.05, 0.012);  // 0.1 s after the last valid plan
+}
+
+TEST(MpcPlannerInput, ANotANumberStateGivesNoPlan) {
+  ControlSettings settings = simFlat();
+  MpcPlanner planner(test::humanoid(), settings, std::make_shared<const terrain::HeightMap>());
+  PlannerInput in;
+  in.mode = Mode::kStand;
+  in.restart = true;
+  in.state.num_joints = test::humanoid().nj();
+  for (int j = 0; j < in.state.num_joints; ++j) in.state.q[j] = settings.nominal_q[j];
+  in.state.base.position[2] = 0.89;
+  in.command.height = 0.89;
+  PlannerOutput out;
+  planner.plan(in, out);
+  ASSERT_TRUE(out.valid) << out.message;
+  in.restart = false;
+  in.t = 0.01;
+  in.state.base.linear_velocity[0] = std::nan("");
+  planner.plan(in, out);
+  EXPECT_FALSE(out.valid);
+  EXPECT_NE(std::strstr(out.message, "NaN"), nullptr) << out.message;
 }
 
 class NoAllocation : public LoopOnFake {
@@ -154,13 +234,9 @@ TEST_F(NoAllocation, StandAndWalkUnderTheWholeBodyControllerAllocateNothing) {
   // the whole-body controller on them.
   MpcPlanner planner(test::humanoid(), settings_, std::make_shared<const terrain::HeightMap>());
   loop_->attachPlanner(&planner);
-  OperatorCommand c;
-  c.kind = CommandKind::kStand;
-  command(c);
-  for (int i = 0; i < 2000 && loop_->status().mode != Mode::kStand; ++i) loop_->tick();
-  ASSERT_EQ(loop_->status().mode, Mode::kStand);
+  ASSERT_TRUE(standUp());
   ticks(20);  // the first plans: the walking controller takes over from the standing one
-  c = {};
+  OperatorCommand c;
   c.kind = CommandKind::kWalk;
   c.vx = 0.3;
   c.sequence = ++sequence_;
@@ -249,10 +325,11 @@ TEST_F(NoAllocation, TheLoopAllocatesNothingPerTick) {
 }
 
 /// Delegates to the fake and, at every backend call inside a tick, takes any reply the loop has
-/// already let out and checks that the published status is at least as new as it.
-class ReplyWatchingBackend final : public backend::Backend {
+/// already let out and checks that the published status is at least as new as it. Keeps the
+/// last commands written.
+class WatchingBackend final : public backend::Backend {
  public:
-  explicit ReplyWatchingBackend(backend::Backend& inner) : inner_(inner) {}
+  explicit WatchingBackend(backend::Backend& inner) : inner_(inner) {}
   bool configure(const backend::Config& c, backend::Error& e) override {
     return inner_.configure(c, e);
   }
@@ -264,6 +341,7 @@ class ReplyWatchingBackend final : public backend::Backend {
   }
   backend::Status write(const backend::Commands& c) override {
     check();
+    last = c;
     return inner_.write(c);
   }
   backend::Status advance() override {
@@ -275,6 +353,7 @@ class ReplyWatchingBackend final : public backend::Backend {
 
   ControlLoop* loop = nullptr;
   int replies = 0, stale = 0;
+  backend::Commands last;
 
  private:
   void check() {
@@ -291,7 +370,7 @@ TEST_F(LoopOnFake, RepliesLeaveOnlyAfterTheStatusOfTheirTick) {
   // A client that has its reply and then asks for status must see the command's effect (the
   // acceptance scripts and the CLI rely on it): reset -> passive, not the damp before it.
   loop_.reset();
-  ReplyWatchingBackend watcher(*backend_);
+  WatchingBackend watcher(*backend_);
   LoopOptions options;
   options.lockstep = true;
   loop_ = std::make_unique<ControlLoop>(test::humanoid(), watcher, settings_, options);
@@ -307,6 +386,32 @@ TEST_F(LoopOnFake, RepliesLeaveOnlyAfterTheStatusOfTheirTick) {
   }
   EXPECT_EQ(watcher.replies, 5);
   EXPECT_EQ(watcher.stale, 0);
+  loop_.reset();  // before the watcher it points at
+}
+
+TEST_F(LoopOnFake, DampSendsOnlyVelocityDampingToEveryJoint) {
+  loop_.reset();
+  WatchingBackend watcher(*backend_);
+  LoopOptions options;
+  options.lockstep = true;
+  loop_ = std::make_unique<ControlLoop>(test::humanoid(), watcher, settings_, options);
+  ASSERT_TRUE(standUp());
+  OperatorCommand c;
+  double stiffness = 0.0;
+  for (int j = 0; j < watcher.last.num_joints; ++j) stiffness += watcher.last.joint[j].kp;
+  EXPECT_GT(stiffness, 0.0);  // standing holds the posture
+  c.kind = CommandKind::kEstop;
+  command(c);
+  ticks(2);
+  ASSERT_EQ(loop_->status().mode, Mode::kDamp);
+  ASSERT_EQ(watcher.last.num_joints, test::humanoid().nj());
+  for (int j = 0; j < watcher.last.num_joints; ++j) {
+    const backend::JointCommand& jc = watcher.last.joint[j];
+    EXPECT_EQ(jc.kp, 0.0) << j;
+    EXPECT_EQ(jc.tau_ff, 0.0) << j;
+    EXPECT_EQ(jc.dq_des, 0.0) << j;
+    EXPECT_GT(jc.kd, 0.0) << j;
+  }
   loop_.reset();  // before the watcher it points at
 }
 
