@@ -1,12 +1,15 @@
 #include "control/planner_slot.hpp"
 
+#include <cerrno>
 #include <chrono>
+#include <ctime>
 
 namespace ballast::control {
 
 PlannerSlot::~PlannerSlot() {
   stop();
   sem_destroy(&wake_);
+  sem_destroy(&answer_);
 }
 
 void PlannerSlot::start(Planner* planner, double rate, bool synchronous) {
@@ -30,11 +33,16 @@ bool PlannerSlot::post(PlannerInput& input, double timeout_s) {
   input_.publish();
   sem_post(&wake_);
   if (!synchronous_) return true;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
-  while (answered_.load(std::memory_order_acquire) < input.sequence) {
-    if (std::chrono::steady_clock::now() > deadline) return false;
-    std::this_thread::yield();
-  }
+  // Sleep, not spin: on two cores a spinning loop thread takes a core from the planner's
+  // linearisation team (lockstep ran below real time that way).
+  timespec deadline;
+  clock_gettime(CLOCK_MONOTONIC, &deadline);
+  const auto ns = static_cast<long long>(timeout_s * 1e9) + deadline.tv_nsec;
+  deadline.tv_sec += static_cast<time_t>(ns / 1000000000LL);
+  deadline.tv_nsec = static_cast<long>(ns % 1000000000LL);
+  while (answered_.load(std::memory_order_acquire) < input.sequence)
+    if (sem_clockwait(&answer_, CLOCK_MONOTONIC, &deadline) != 0 && errno == ETIMEDOUT)
+      return answered_.load(std::memory_order_acquire) >= input.sequence;
   return true;
 }
 
@@ -57,6 +65,7 @@ void PlannerSlot::run() {
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     output_.publish();
     answered_.store(in.sequence, std::memory_order_release);
+    sem_post(&answer_);
   }
 }
 

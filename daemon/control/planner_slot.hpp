@@ -32,7 +32,10 @@ class PlannerSlot {
  public:
   /// Controller times this close count as equal (they are sums of periods, with rounding).
   static constexpr double kTimeTolerance = 1e-6;
-  PlannerSlot() { sem_init(&wake_, 0, 0); }
+  PlannerSlot() {
+    sem_init(&wake_, 0, 0);
+    sem_init(&answer_, 0, 0);
+  }
   ~PlannerSlot();
   PlannerSlot(const PlannerSlot&) = delete;
   PlannerSlot& operator=(const PlannerSlot&) = delete;
@@ -65,6 +68,7 @@ class PlannerSlot {
   std::atomic<std::uint64_t> answered_{0};
   std::atomic<bool> stop_{false};
   sem_t wake_;
+  sem_t answer_;  ///< posted with every answer (synchronous waits)
   std::thread thread_;
 };
 
