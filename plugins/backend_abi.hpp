@@ -24,7 +24,7 @@
 
 namespace ballast::backend {
 
-inline constexpr std::uint32_t kBackendAbiVersion = 1;
+inline constexpr std::uint32_t kBackendAbiVersion = 2;  // 2: position fixes
 inline constexpr const char* kBackendEntrySymbol = "ballast_backend_entry";
 
 inline constexpr int kMaxJoints = 32;
@@ -66,6 +66,7 @@ struct Capabilities {
   bool ground_truth = false;    ///< Sensors::truth is filled
   bool lidar = false;           ///< lidarScan() returns scans
   bool disturbance = false;     ///< push() works
+  bool position_fix = false;    ///< Sensors::position_fix carries a localisation source
   int num_joints = 0;
   char joint_names[kMaxJoints][kNameLength] = {};
 };
@@ -87,6 +88,15 @@ struct Truth {
   bool non_foot_contact = false;         ///< a body other than the feet touches the terrain
 };
 
+/// An absolute position of the base from a localisation source the backend has (lidar scans
+/// matched against the map, motion capture, GNSS): the state estimator fuses each one once.
+struct PositionFix {
+  bool fresh = false;          ///< a new fix arrived with this sample
+  double time = 0.0;           ///< when it was measured, backend clock (s)
+  double position[3] = {};     ///< base origin, world (m)
+  double stddev[3] = {};       ///< 1-σ per world axis (m), > 0
+};
+
 struct Sensors {
   double time = 0.0;            ///< backend clock, s (simulation time in lockstep)
   std::uint64_t sequence = 0;   ///< increases with every new sample
@@ -98,6 +108,7 @@ struct Sensors {
   bool imu_valid = false;
   bool has_truth = false;
   Truth truth;
+  PositionFix position_fix;  ///< Capabilities::position_fix
 };
 
 /// Per joint: the motor applies tau_ff + kp (q_des − q) + kd (dq_des − dq), within its limits.

@@ -289,6 +289,10 @@ void ControlLoop::readSensors() {
   std::array<double, kNumContacts> terrain;
   terrain.fill(settings_->ground_height);
   sensors_ok_ = estimator_.update(sensors_, q_, dq_, tau_, scheduled, terrain, input_.state);
+  // A localisation fix bounds the drift of leg odometry (the next update shows it).
+  if (sensors_ok_ && sensors_.position_fix.fresh && settings_->use_position_fix &&
+      backend_.capabilities().position_fix && estimator_.correctPosition(sensors_.position_fix))
+    ++position_fixes_;
 }
 
 void ControlLoop::handleCommands() {
@@ -468,6 +472,7 @@ void ControlLoop::publish() {
   for (int c = 0; c < kNumContacts; ++c) p.contacts[c] = input_.state.contact[c];
   p.mpc_ms = have_plan_ ? plan_.solve_ms : 0.0;
   p.planner_failures = planner_failures_;
+  p.position_fixes = position_fixes_;
   p.wbc_degraded_ticks = wbc_degraded_;
   p.wbc_ms = wbc_ms_;
   p.wbc_ms_max = wbc_ms_max_;

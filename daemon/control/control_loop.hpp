@@ -120,7 +120,7 @@ class ControlLoop {
   bool planning_ = false;  // inputs are being posted (stand, walk)
   std::uint64_t first_sequence_ = 0;  // of the input that restarted planning
   std::uint64_t failed_sequence_ = 0;  // of the last answer without a valid plan
-  std::uint64_t planner_failures_ = 0;
+  std::uint64_t planner_failures_ = 0, position_fixes_ = 0;
   int planner_streak_ = 0;  // failed answers since the last valid plan
   char planner_message_[kMessageLength] = {};
   std::uint64_t wbc_degraded_ = 0;

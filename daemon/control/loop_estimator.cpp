@@ -81,4 +81,13 @@ bool LoopEstimator::update(const backend::Sensors& sensors, const double* q, con
   return true;
 }
 
+bool LoopEstimator::correctPosition(const backend::PositionFix& fix) {
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (int i = 0; i < 3; ++i) {
+    if (!(fix.stddev[i] > 0.0)) return false;
+    covariance(i, i) = fix.stddev[i] * fix.stddev[i];
+  }
+  return filter_.correctPosition(Eigen::Vector3d(fix.position), covariance);
+}
+
 }  // namespace ballast::control

@@ -31,6 +31,10 @@ class LoopEstimator {
               const double* tau, const std::array<bool, kNumContacts>& scheduled,
               const std::array<double, kNumContacts>& terrain, EstimatedState& out);
 
+  /// Fuses a position fix into the filter (the next update shows it). False when the filter has
+  /// no estimate yet or refuses the fix (not finite, σ not positive).
+  bool correctPosition(const backend::PositionFix& fix);
+
   const estimation::EstimatorOutput& filterOutput() const { return output_; }
   estimation::EstimatorStatus filterStatus() const { return status_; }
 

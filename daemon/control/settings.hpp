@@ -38,6 +38,7 @@ struct ControlSettings {
   bool use_truth = false;      ///< control on the simulator's ground truth (diagnostics)
   double ground_height = 0.0;  ///< m, terrain under the robot at start
   estimation::EstimatorSettings estimator;
+  bool use_position_fix = true;  ///< fuse Sensors::position_fix when the backend sends them
 
   // safety
   double damping = 4.0;           ///< N·m·s/rad in damp

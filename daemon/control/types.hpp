@@ -152,6 +152,7 @@ struct LoopStatus {
   std::uint64_t tick_overruns = 0;
   std::uint64_t wbc_degraded_ticks = 0;  ///< ticks the WBC dropped lower priorities (QP failed)
   std::uint64_t planner_failures = 0;    ///< planner answers without a valid plan (kept the last)
+  std::uint64_t position_fixes = 0;      ///< backend position fixes the estimator fused
   FaultList faults;
   std::uint64_t telemetry_frames = 0;
   std::uint64_t telemetry_dropped = 0;

@@ -144,6 +144,7 @@ const std::vector<Key> kTable = {
 
   // ---- estimator (daemon/estimation)
   choice("estimator.source", "estimate", "estimate|truth", "what the controllers run on: the estimate, or the simulator's ground truth (diagnostics)").needsRestart(),
+  flag("estimator.position_fix", "true", "fuse the backend's position fixes (a localisation source: lidar against the map, motion capture) into the base position, when it has them"),
   flag("estimator.contact_force_check", "true", "a scheduled contact counts only once the estimated normal force confirms it (estimator.contact_force_threshold)"),
   // The filter's number keys follow, generated from estimation::estimatorNumberKeys().
 

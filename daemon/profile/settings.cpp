@@ -117,6 +117,7 @@ control::ControlSettings buildSettings(const Profile& p, const model::Model& mod
 
   // estimator, terrain
   s.use_truth = p.text("estimator.source") == "truth";
+  s.use_position_fix = p.flag("estimator.position_fix");
   s.estimator.imuFrame = s.imu_frame;
   for (int c = 0; c < control::kNumContacts; ++c) s.estimator.contactFrames[c] = s.contact_frames[c];
   s.estimator.period = 1.0 / p.number("control.rate");

@@ -53,6 +53,7 @@ json statusJson(const control::LoopStatus& s, const StatusExtras& x, bool joints
                  {"wbc_ms_max", s.wbc_ms_max},
                  {"tick_overruns", s.tick_overruns},
                  {"planner_failures", s.planner_failures},
+                 {"position_fixes", s.position_fixes},
                  {"ticks", s.ticks}};
   j["faults"] = json::array();
   for (int i = 0; i < s.faults.size; ++i) {

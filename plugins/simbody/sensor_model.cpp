@@ -14,6 +14,8 @@ void SensorModel::configure(const SimSettings& s, double period, std::uint64_t s
   gyroBiasSigma_ = s.imu_gyro_bias;
   accelBiasSigma_ = s.imu_accel_bias;
   orientationSigma_ = s.imu_orientation_noise;
+  fixPeriod_ = s.position_fix_rate > 0.0 ? 1.0 / s.position_fix_rate : 0.0;
+  fixSigma_ = s.position_fix_noise;
   start();
 }
 
@@ -22,6 +24,9 @@ void SensorModel::start() {
   normal_.reset();
   for (int i = 0; i < 3; ++i) gyroBias_[i] = gaussian(gyroBiasSigma_);
   for (int i = 0; i < 3; ++i) accelBias_[i] = gaussian(accelBiasSigma_);
+  fixRng_.seed(seed_ ^ 0x9e3779b97f4a7c15ULL);
+  fixNormal_.reset();
+  nextFix_ = 0.0;
 }
 
 void SensorModel::sample(const SimbodyWorld& world, backend::Sensors& out) {
@@ -55,6 +60,19 @@ void SensorModel::sample(const SimbodyWorld& world, backend::Sensors& out) {
 
   out.has_truth = true;
   world.truth(out.truth);
+
+  backend::PositionFix& fix = out.position_fix;
+  fix.fresh = false;
+  // A fix per fixPeriod_ of simulated time (the tolerance absorbs the sum of tick periods).
+  if (fixPeriod_ > 0.0 && world.time() + 1e-9 >= nextFix_) {
+    fix.fresh = true;
+    fix.time = world.time();
+    for (int i = 0; i < 3; ++i) {
+      fix.position[i] = out.truth.base_position[i] + fixSigma_ * fixNormal_(fixRng_);
+      fix.stddev[i] = fixSigma_;
+    }
+    nextFix_ += fixPeriod_;
+  }
 }
 
 }  // namespace ballast::simbody

@@ -1,6 +1,8 @@
 // What the robot's sensors report, from the world's true values: joint encoders (quantised,
 // velocity noise), motor torques (noise), IMU (white noise + a per-axis bias drawn at start, a
-// small random rotation on the orientation), ground truth flagged as such.
+// small random rotation on the orientation), ground truth flagged as such, and, when
+// position_fix.rate > 0, a localisation source: the true base position with white noise, at
+// that rate (what lidar scans matched against the map give a real robot).
 //
 // All randomness comes from one generator seeded with Config::seed and re-seeded by start(), so
 // a lockstep run repeats bit for bit; a sample is drawn once per tick (reading twice does not
@@ -34,6 +36,10 @@ class SensorModel {
   SimTK::Vec3 gyroBias_{0}, accelBias_{0};
   std::mt19937_64 rng_;
   std::normal_distribution<double> normal_{0.0, 1.0};
+  // Position fixes draw from their own generator: turning them on changes no other reading.
+  double fixPeriod_ = 0.0, fixSigma_ = 0.0, nextFix_ = 0.0;
+  std::mt19937_64 fixRng_;
+  std::normal_distribution<double> fixNormal_{0.0, 1.0};
 };
 
 }  // namespace ballast::simbody

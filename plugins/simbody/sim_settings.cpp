@@ -114,6 +114,13 @@ const std::vector<SettingKey> kKeys = {
   {"lidar.range_noise", K::kNumber, "0", 0, 1, "", "Lidar",
    "white noise σ (m) along each ray", &S::lidar_range_noise},
 
+  {"position_fix.rate", K::kNumber, "0", 0, 100, "", "Localisation",
+   "fixes per second (Hz) of the base position, as lidar scans matched against the map give "
+   "them (Capabilities::position_fix); 0: none",
+   &S::position_fix_rate},
+  {"position_fix.noise", K::kNumber, "0.01", 1e-5, 1, "", "Localisation",
+   "white noise σ (m) per axis on each fix", &S::position_fix_noise},
+
   {"initial_posture", K::kChoice, "stand", kNone, kNone, "stand|zero", "Initial state (start())",
    "stand: *hip_pitch -0.4, *knee 0.8, *ankle_pitch -(hip_pitch + knee) so the soles are level, others 0; zero: all 0",
    &S::initial_posture},

@@ -77,6 +77,10 @@
 //   lidar.max_range               number  10             [0.1, 200]     farther hits are dropped (m; > min_range)
 //   lidar.range_noise             number  0              [0, 1]         white noise σ (m) along each ray
 //
+//   Localisation
+//   position_fix.rate             number  0              [0, 100]       fixes per second (Hz) of the base position, as lidar scans matched against the map give them (Capabilities::position_fix); 0: none
+//   position_fix.noise            number  0.01           [1e-05, 1]     white noise σ (m) per axis on each fix
+//
 //   Initial state (start())
 //   initial_posture               choice  stand          stand|zero     stand: *hip_pitch -0.4, *knee 0.8, *ankle_pitch -(hip_pitch + knee) so the soles are level, others 0; zero: all 0
 //   initial_joints                joints  {}             [-6.28319, 6.28319] joint name -> angle (rad) overriding the posture; within the URDF limits
@@ -129,6 +133,8 @@ struct SimSettings {
   int lidar_horizontal_rays, lidar_vertical_rays;
   double lidar_horizontal_fov, lidar_vertical_min, lidar_vertical_max;
   double lidar_min_range, lidar_max_range, lidar_range_noise;
+
+  double position_fix_rate, position_fix_noise;
 
   std::string initial_posture;
   JointAngles initial_joints;

@@ -81,6 +81,7 @@ bool SimbodyBackend::configure(const backend::Config& config, backend::Error& er
     caps_.ground_truth = true;
     caps_.lidar = lidarEnabled_ = settings_.lidar_enabled;
     caps_.disturbance = true;
+    caps_.position_fix = settings_.position_fix_rate > 0.0;
     caps_.num_joints = world_->numJoints();
     for (int j = 0; j < caps_.num_joints; ++j)
       std::snprintf(caps_.joint_names[j], backend::kNameLength, "%s",

@@ -273,6 +273,48 @@ TEST(Simulation, SensorNoiseHasTheConfiguredBiasSpreadAndQuantisation) {
   EXPECT_NEAR(mean, 0.0, 4 * 0.316 / std::sqrt(n));
 }
 
+TEST(Simulation, PositionFixesComeAtTheirRateWithTheirNoise) {
+  Sim none("");
+  ASSERT_TRUE(none.ok) << none.message;
+  EXPECT_FALSE(none.backend.capabilities().position_fix);
+  ASSERT_TRUE(none.run(200, none.hold));
+  EXPECT_FALSE(none.sensors.position_fix.fresh);
+  // 50 fixes per second for 4 s (each once, on its tick), σ 0.02 m per axis around the truth.
+  Sim fixed("position_fix: {rate: 50, noise: 0.02}\n");
+  ASSERT_TRUE(fixed.ok) << fixed.message;
+  EXPECT_TRUE(fixed.backend.capabilities().position_fix);
+  int fixes = 0;
+  double sum[3] = {}, sum2[3] = {}, lastTime = -1;
+  for (int k = 0; k < 4000; ++k) {
+    ASSERT_TRUE(fixed.run(1, fixed.hold));
+    const backend::PositionFix& f = fixed.sensors.position_fix;
+    if (!f.fresh) continue;
+    ++fixes;
+    EXPECT_NEAR(f.time, fixed.sensors.time, 1e-12);
+    if (lastTime >= 0) {
+      EXPECT_NEAR(f.time - lastTime, 0.02, 1e-6);
+    }
+    lastTime = f.time;
+    for (int i = 0; i < 3; ++i) {
+      EXPECT_DOUBLE_EQ(f.stddev[i], 0.02);
+      const double e = f.position[i] - fixed.sensors.truth.base_position[i];
+      sum[i] += e;
+      sum2[i] += e * e;
+    }
+  }
+  EXPECT_EQ(fixes, 200);
+  for (int i = 0; i < 3; ++i) {
+    const double mean = sum[i] / fixes, sigma = std::sqrt(sum2[i] / fixes - mean * mean);
+    EXPECT_NEAR(sigma, 0.02, 0.02 * 0.15) << "axis " << i;
+    EXPECT_NEAR(mean, 0.0, 4 * 0.02 / std::sqrt(fixes)) << "axis " << i;
+  }
+  // Turning fixes on changes no other reading (their noise has its own generator).
+  Sim plain("");
+  ASSERT_TRUE(plain.run(4000, plain.hold));
+  EXPECT_EQ(std::memcmp(&plain.sensors.imu, &fixed.sensors.imu, sizeof(backend::Imu)), 0);
+  EXPECT_EQ(std::memcmp(plain.sensors.dq, fixed.sensors.dq, sizeof(plain.sensors.dq)), 0);
+}
+
 TEST(Simulation, MotorsKeepTheirTorqueLimitAndLatency) {
   Sim sim("initial_clearance: 50\nmotor_latency_ticks: 3\n");
   ASSERT_TRUE(sim.ok) << sim.message;
