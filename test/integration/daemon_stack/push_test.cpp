@@ -51,18 +51,20 @@ TEST(Push, FortyNewtonsForOneSecondAtEveryPhaseOfTheGait) {
 }
 
 /// Development sweep (BALLAST_PUSH_SWEEP=1): a fresh robot per phase, so every phase is tried.
+/// BALLAST_PUSH_FORCE, _FY (N), _PHASES, _VX (m/s) and _PROFILE (a path) change the scenario.
 TEST(PushSweep, OneRobotPerPhase) {
   if (!std::getenv("BALLAST_PUSH_SWEEP")) GTEST_SKIP() << "set BALLAST_PUSH_SWEEP=1";
   const double force = envOr("BALLAST_PUSH_FORCE", 40.0);
   const double fy = envOr("BALLAST_PUSH_FY", 0.0);
   const int phases = static_cast<int>(envOr("BALLAST_PUSH_PHASES", 16));
+  const char* profile = std::getenv("BALLAST_PUSH_PROFILE");
   const double period = 0.8;
   int fell = 0;
   for (int k = 0; k < phases; ++k) {
-    DaemonStack robot(kProfile);
+    DaemonStack robot(profile ? std::string(profile) : kProfile);
     ASSERT_TRUE(robot.waitForMode(control::Mode::kStand, 5.0));
     ASSERT_TRUE(robot.run(0.5));
-    ASSERT_EQ(robot.walk(0.5), control::Refusal::kNone);
+    ASSERT_EQ(robot.walk(envOr("BALLAST_PUSH_VX", 0.5)), control::Refusal::kNone);
     const double t0 = robot.t();
     ASSERT_TRUE(robot.run(4.0 + k * period / phases));
     const double phase = std::fmod(robot.t() - t0, period);

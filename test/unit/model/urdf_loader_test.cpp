@@ -115,6 +115,20 @@ TEST(UrdfLoader, NotATreeIsRejectedWithUrdfdomsReason) {
   EXPECT_NE(msg.find("root"), std::string::npos) << msg;
 }
 
+TEST(UrdfLoader, ACycleHasNoRootAndIsRejected) {
+  // base -> child -> base: every link has a parent, so none is the root.
+  const std::string msg =
+      errorFor(tinyRobot(kInertial, "revolute",
+                         R"(<limit lower="-1" upper="1" effort="10" velocity="5"/>)",
+                         R"(<axis xyz="0 1 0"/>)",
+                         "  <joint name=\"back\" type=\"revolute\">\n"
+                         "    <parent link=\"child\"/><child link=\"base\"/><axis xyz=\"0 1 0\"/>"
+                         "<limit lower=\"-1\" upper=\"1\" effort=\"10\" velocity=\"5\"/>\n"
+                         "  </joint>\n"));
+  EXPECT_NE(msg.find("tiny.urdf: invalid URDF:"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("root"), std::string::npos) << msg;
+}
+
 TEST(UrdfLoader, DanglingChildLinkIsRejected) {
   std::string xml = tinyRobot();
   xml.replace(xml.find("<child link=\"child\"/>"), 21, "<child link=\"ghost\"/>");
