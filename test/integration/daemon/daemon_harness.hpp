@@ -182,16 +182,19 @@ inline std::string readFile(const fs::path& path) {
 
 class Daemon {
  public:
-  /// Starts ballastd --profile profile --lockstep in dir, and waits for its socket.
+  /// Starts ballastd --profile profile --lockstep in dir, and waits for its socket: dir's
+  /// ballastd.sock, extra's --socket, or with defaultSocket the one ballastd finds by itself
+  /// ($XDG_RUNTIME_DIR/ballast/ballastd.sock; the caller sets XDG_RUNTIME_DIR).
   Daemon(const fs::path& dir, const std::string& profile, std::vector<std::string> extra = {},
-         bool lockstep = true)
+         bool lockstep = true, bool defaultSocket = false)
       : dir_(dir),
         socket_((dir / "ballastd.sock").string()),
         log_((dir / "ballastd.log").string()) {
     for (std::size_t i = 0; i + 1 < extra.size(); ++i)
       if (extra[i] == "--socket") socket_ = extra[i + 1];
+    if (defaultSocket) socket_ = std::string(std::getenv("XDG_RUNTIME_DIR")) + "/ballast/ballastd.sock";
     std::vector<std::string> argv = {BALLASTD, "--profile", profile, "--log-level", "debug"};
-    if (std::find(extra.begin(), extra.end(), "--socket") == extra.end()) {
+    if (!defaultSocket && std::find(extra.begin(), extra.end(), "--socket") == extra.end()) {
       argv.push_back("--socket");
       argv.push_back(socket_);
     }

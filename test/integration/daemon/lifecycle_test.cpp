@@ -57,6 +57,27 @@ TEST(Lifecycle, MissingPluginAndBadUrdfAreNamed) {
   fs::remove_all(dir);
 }
 
+TEST(Lifecycle, DaemonAndCliMeetOnTheDefaultSocket) {
+  // Neither is told where: both take $XDG_RUNTIME_DIR/ballast/ballastd.sock.
+  const fs::path dir = scratchDir();
+  const fs::path runtime = dir / "run";
+  fs::create_directories(runtime);
+  setenv("XDG_RUNTIME_DIR", runtime.c_str(), 1);
+  unsetenv("BALLAST_SOCKET");
+  unsetenv("BALLAST_LEASE_FILE");
+  Daemon d(dir, FAKE_PROFILE, {}, true, /*defaultSocket=*/true);
+  ASSERT_TRUE(d.running()) << d.log();
+  EXPECT_EQ(d.socket(), (runtime / "ballast" / "ballastd.sock").string());
+  EXPECT_TRUE(fs::exists(d.socket()));
+  const Outcome r = runProgram({BALLAST, "status", "--get", "mode"});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out, "passive\n");
+  EXPECT_EQ(d.stop(), 0) << d.log();
+  EXPECT_FALSE(fs::exists(d.socket()));
+  unsetenv("XDG_RUNTIME_DIR");
+  fs::remove_all(dir);
+}
+
 TEST(Lifecycle, SecondDaemonOnTheSameSocketIsRefused) {
   const fs::path dir = scratchDir();
   Daemon first(dir, FAKE_PROFILE);
