@@ -1,6 +1,8 @@
 // The schema table. One row per key; the helpers below keep a row on one line or two.
 #include "profile/schema.hpp"
 
+#include "common/closest_name.hpp"  // plugins/common
+
 #include <algorithm>
 #include <deque>
 #include <sstream>
@@ -268,27 +270,7 @@ bool isBackendSection(const std::string& name) {
 }
 
 std::string closestKey(const std::string& name) {
-  auto distance = [](const std::string& a, const std::string& b) {
-    std::vector<std::size_t> row(b.size() + 1);
-    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
-    for (std::size_t i = 1; i <= a.size(); ++i) {
-      std::size_t diag = row[0];
-      row[0] = i;
-      for (std::size_t j = 1; j <= b.size(); ++j) {
-        const std::size_t up = row[j];
-        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] != b[j - 1] ? 1u : 0u)});
-        diag = up;
-      }
-    }
-    return row[b.size()];
-  };
-  std::string best;
-  std::size_t bestDistance = 4;  // more edits than this is not a typo
-  for (const Key& k : kSchema) {
-    const std::size_t d = distance(name, k.name);
-    if (d < bestDistance) bestDistance = d, best = k.name;
-  }
-  return best;
+  return closestName(name, kSchema, [](const Key& k) { return std::string(k.name); });
 }
 
 namespace {

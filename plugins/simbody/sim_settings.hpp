@@ -1,13 +1,8 @@
 // The simbody backend's profile section: every key it accepts, declared once in a table
-// (simSettingKeys(), sim_settings.cpp) with its type, default, bounds and one line of doc, and
-// the one place that parses and validates it.
-//
-// The daemon hands the plugin its section as YAML text (Config::section_yaml) with
-// Config::section_origin = "file:line" where it starts. Errors read
-//     file:line:column: key: what is wrong
-// with line = origin line + the YAML node's 0-based line, column = the node's column + 1.
-// Unknown keys (with a "did you mean" for typos), keys given twice, wrong types and out-of-range
-// values are errors.
+// (simSettingKeys(), sim_settings.cpp) with its type, default, bounds and one line of doc,
+// parsed and validated by the plugins' section parser (plugins/common/section_settings.hpp):
+// errors read `file:line:column: key: what is wrong`; unknown keys (with a "did you mean" for
+// typos), keys given twice, wrong types and out-of-range values are errors.
 //
 // Example (every key is optional; values are the defaults unless marked):
 //
@@ -92,20 +87,19 @@
 // table with its default.
 #pragma once
 
-#include <array>
-#include <map>
-#include <stdexcept>
 #include <string>
-#include <variant>
 #include <vector>
+
+#include "section_settings.hpp"
 
 namespace ballast::simbody {
 
-using Vec3d = std::array<double, 3>;
-using JointAngles = std::map<std::string, double>;
+using plugin::SettingsError;
+using Vec3d = plugin::Vec3d;
+using JointAngles = plugin::NamedNumbers;
 
 /// The parsed section. Field names are the keys with '.' replaced by '_'.
-struct SimSettings {
+struct SimSettings : plugin::SectionLocations {
   double friction, friction_stiffness, friction_damping, contact_stiffness, contact_dissipation;
   double foot_sphere_radius, foot_width;
   bool body_contact;
@@ -140,39 +134,12 @@ struct SimSettings {
   JointAngles initial_joints;
   Vec3d initial_xy;  ///< [2] unused
   double initial_yaw, initial_clearance;
-
-  /// Where each key given in the section was written ("file:line:column"); keys of
-  /// initial_joints as "initial_joints.<joint>". For messages found after parsing.
-  std::map<std::string, std::string> location;
-  std::string origin;  ///< the section's "file:line"
-
-  /// "file:line:column: key: " for a message about key (its location, else the section's).
-  std::string where(const std::string& key) const;
 };
 
-enum class KeyType { kNumber, kInteger, kBool, kString, kChoice, kVec2, kVec3, kJointAngles };
-
-using SettingField =
-    std::variant<double SimSettings::*, int SimSettings::*, bool SimSettings::*,
-                 std::string SimSettings::*, Vec3d SimSettings::*, JointAngles SimSettings::*>;
-
-struct SettingKey {
-  const char* name;         ///< dotted path in the section, e.g. "imu.gyro_bias"
-  KeyType type;
-  const char* defaultYaml;  ///< the default, as YAML (parsed by the same code as the profile)
-  double min, max;          ///< numbers, integers, vector elements, joint angles
-  const char* choices;      ///< kChoice: "a|b|c"
-  const char* group;        ///< heading in the documentation
-  const char* doc;
-  SettingField field;
-};
+using SettingKey = plugin::SettingKey<SimSettings>;
 
 /// The table of keys, in documentation order.
 const std::vector<SettingKey>& simSettingKeys();
-
-struct SettingsError : std::runtime_error {
-  using std::runtime_error::runtime_error;
-};
 
 /// Parses and validates the section; throws SettingsError "file:line:column: key: what is wrong".
 SimSettings parseSimSettings(const std::string& yaml, const std::string& origin);

@@ -28,23 +28,6 @@ std::string resolveMap(const SimSettings& s) {
                            " (nor " + beside + ")");
 }
 
-timespec now() {
-  timespec t;
-  clock_gettime(CLOCK_MONOTONIC, &t);
-  return t;
-}
-
-void addSeconds(timespec& t, double seconds) {
-  const long ns = std::lround(seconds * 1e9);
-  t.tv_sec += ns / 1000000000L;
-  t.tv_nsec += ns % 1000000000L;
-  if (t.tv_nsec >= 1000000000L) t.tv_nsec -= 1000000000L, ++t.tv_sec;
-}
-
-double secondsBetween(const timespec& a, const timespec& b) {
-  return static_cast<double>(b.tv_sec - a.tv_sec) + 1e-9 * static_cast<double>(b.tv_nsec - a.tv_nsec);
-}
-
 }  // namespace
 
 bool SimbodyBackend::configure(const backend::Config& config, backend::Error& error) {
@@ -118,7 +101,7 @@ bool SimbodyBackend::start(backend::Error& error) {
   }
   for (QueuedCommands& q : queue_) q.tick = -1;
   tick_ = 0;
-  overruns_ = 0;
+  pacer_ = plugin::TickPacer{};
   sensors_.start();
   if (lidarEnabled_) lidar_.start(0.0);
   sample_ = backend::Sensors{};
@@ -187,7 +170,7 @@ backend::Status SimbodyBackend::write(const backend::Commands& commands) {
 backend::Status SimbodyBackend::advance() {
   if (!started_) return fault("simbody: advance() on a backend that is not started");
   if (faulted_) return Status::kFault;
-  if (!lockstep_ && tick_ == 0) deadline_ = now();  // the schedule starts with the first tick
+  if (!lockstep_ && tick_ == 0) pacer_.start(period_);  // the schedule starts with the first tick
   const std::int64_t due = static_cast<std::int64_t>(tick_) - settings_.motor_latency_ticks;
   const QueuedCommands& slot = queue_[static_cast<std::size_t>(due >= 0 ? due : 0) % queue_.size()];
   if (due >= 0 && slot.tick == due) world_->setMotorCommands(slot.joint);
@@ -205,20 +188,14 @@ backend::Status SimbodyBackend::advance() {
   }
   if (lockstep_) return Status::kOk;
 
-  addSeconds(deadline_, period_);
-  const timespec t = now();
-  const double late = secondsBetween(deadline_, t);
-  if (late > 0.0) {
-    ++overruns_;
+  double late = 0.0;
+  if (!pacer_.wait(late)) {
     char msg[160];
     std::snprintf(msg, sizeof msg, "simbody: tick %llu ended %.3f ms after its deadline (%llu overruns)",
                   static_cast<unsigned long long>(tick_), late * 1e3,
-                  static_cast<unsigned long long>(overruns_));
+                  static_cast<unsigned long long>(pacer_.overruns()));
     copyMessage(lastError_, msg);
-    deadline_ = t;
     return Status::kOverrun;
-  }
-  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &deadline_, nullptr) == EINTR) {
   }
   return Status::kOk;
 }

@@ -60,6 +60,7 @@
 #include "sensor_model.hpp"
 #include "sim_settings.hpp"
 #include "simbody_world.hpp"
+#include "tick_pacer.hpp"  // plugins/common
 
 namespace ballast::simbody {
 
@@ -79,7 +80,7 @@ class SimbodyBackend final : public backend::Backend {
   // Not part of the ABI: for tests and benchmarks that link the backend directly.
   SimbodyWorld& world() { return *world_; }
   const SimSettings& settings() const { return settings_; }
-  std::uint64_t overruns() const { return overruns_; }
+  std::uint64_t overruns() const { return pacer_.overruns(); }
   std::uint64_t ticks() const { return tick_; }
 
  private:
@@ -107,8 +108,7 @@ class SimbodyBackend final : public backend::Backend {
   std::uint64_t tick_ = 0;  ///< advances since start()
   backend::Sensors sample_;
   std::uint64_t lastReadSequence_ = 0;
-  std::uint64_t overruns_ = 0;
-  timespec deadline_{};
+  plugin::TickPacer pacer_;
 };
 
 }  // namespace ballast::simbody

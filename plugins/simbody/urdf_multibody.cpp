@@ -1,5 +1,7 @@
 #include "urdf_multibody.hpp"
 
+#include "urdf_joints.hpp"  // plugins/common
+
 #include <urdf_parser/urdf_parser.h>
 
 #include <algorithm>
@@ -148,20 +150,6 @@ class Builder {
   std::map<std::string, int> order_;
 };
 
-/// Joint order in the file (urdfdom keeps joints in a name-sorted map).
-std::map<std::string, int> jointFileOrder(const std::string& xml) {
-  TiXmlDocument doc;
-  doc.Parse(xml.c_str());
-  std::map<std::string, int> order;
-  if (const TiXmlElement* robot = doc.RootElement()) {
-    int n = 0;
-    for (const TiXmlElement* e = robot->FirstChildElement("joint"); e;
-         e = e->NextSiblingElement("joint"))
-      if (const char* name = e->Attribute("name")) order[name] = n++;
-  }
-  return order;
-}
-
 }  // namespace
 
 std::unique_ptr<UrdfMultibody> buildUrdfMultibody(const std::string& urdfPath) {
@@ -174,7 +162,7 @@ std::unique_ptr<UrdfMultibody> buildUrdfMultibody(const std::string& urdfPath) {
   auto mb = std::make_unique<UrdfMultibody>();
   mb->robotName = parsed->getName();
   try {
-    Builder(*parsed, *mb, jointFileOrder(text.str())).build();
+    Builder(*parsed, *mb, plugin::jointFileOrder(text.str())).build();
   } catch (const std::exception& e) {
     throw std::runtime_error(urdfPath + ": " + e.what());
   }

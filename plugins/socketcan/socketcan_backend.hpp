@@ -1,0 +1,102 @@
+// The SocketCAN hardware backend: the robot's motors on one or more CAN buses, spoken to in the
+// MIT protocol (mit_protocol.hpp), and an IMU on a bus (imu_protocol.hpp).
+//
+//   configure  parse the section (socketcan_settings.hpp), read the URDF's movable joints (each
+//              needs a motor entry; torque ranges default to its effort limit), open the buses
+//   start      enable sequence: every motor is put in motor mode and must answer within
+//              enable_timeout (a list of the silent ones otherwise); zero_on_start then zeroes
+//              them; the IMU must have sent a sample
+//   read       drain every bus without blocking: replies update their motor, IMU frames build
+//              samples; a motor or IMU silent for longer than its timeout is a fault naming it
+//              (the daemon damps); a tick without a new frame reuses the last ones, each younger
+//              than its timeout (one late or lost frame is not a fall)
+//   write      one command frame per motor, each value clamped to the motor's range (counted)
+//   advance    real time: sleep to the next tick (an overrun is reported); lockstep, possible
+//              only on emulated buses (fd:N): wait for every motor's reply and the IMU's sample
+//   stop       disable every motor (disable_on_stop); idempotent
+//
+// Joints: q = offset + direction · p (p the motor's position), velocity and torque likewise.
+// Everything per tick works on arrays sized at configure: no allocation, no lock; frames go to
+// the candump log through a lock-free ring.
+#pragma once
+
+#include <time.h>
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "backend_abi.hpp"
+#include "can_bus.hpp"
+#include "candump_log.hpp"
+#include "imu_protocol.hpp"
+#include "socketcan_settings.hpp"
+#include "tick_pacer.hpp"  // plugins/common
+
+namespace ballast::socketcan {
+
+class SocketcanBackend final : public backend::Backend {
+ public:
+  SocketcanBackend() = default;
+  ~SocketcanBackend() override { stop(); }
+
+  bool configure(const backend::Config& config, backend::Error& error) override;
+  const backend::Capabilities& capabilities() const override { return caps_; }
+  bool start(backend::Error& error) override;
+  backend::Status read(backend::Sensors& sensors) override;
+  backend::Status write(const backend::Commands& commands) override;
+  backend::Status advance() override;
+  const backend::Error& lastError() const override { return lastError_; }
+  void stop() override;
+
+  // Diagnostics (tests).
+  const SocketcanSettings& settings() const { return settings_; }
+  /// Command values clamped to a motor's range since start.
+  std::uint64_t clampedValues() const { return clamped_; }
+  /// Frames that could not be queued for sending since start.
+  std::uint64_t sendFailures() const { return sendFailures_; }
+
+ private:
+  struct Motor {
+    MotorEntry entry;
+    double q = 0.0, dq = 0.0, tau = 0.0;  ///< joint side, from the last reply
+    double lastReply = -1.0;              ///< backend clock, s; < 0: never
+    bool replied = false;                 ///< since the last write (lockstep)
+  };
+  backend::Status fault(const char* message);
+  /// Reads every waiting frame on every bus; true if any arrived.
+  bool drain();
+  /// Sends a frame on a bus (logged); false if it could not be queued.
+  bool send(int bus, const can_frame& frame);
+  /// Polls the buses until done() or `timeout` s of wall time; false on timeout.
+  template <typename Done>
+  bool waitUntil(Done done, double timeout);
+  /// The motors for which `missing(m)` holds, as "left_knee (can0 id 4), ..." (at most 6).
+  template <typename Missing>
+  std::string motorList(Missing missing) const;
+  double clock() const;  ///< backend time, s
+  void sendToAll(MitSpecial which);
+
+  SocketcanSettings settings_;
+  backend::Capabilities caps_;
+  backend::Error lastError_;
+  std::vector<CanBus> buses_;
+  std::vector<Motor> motors_;                         // in joint (URDF) order
+  std::vector<std::array<std::int16_t, 256>> byId_;  // per bus: motor index by CAN id, -1 none
+  ImuAssembler imu_;
+  double lastImu_ = -1.0;
+  std::uint64_t imuSamplesAtWrite_ = 0;
+  CandumpLog log_;
+  double period_ = 0.001;
+  bool lockstep_ = false;
+  bool configured_ = false, started_ = false, faulted_ = false;
+  std::uint64_t tick_ = 0, sequence_ = 0, clamped_ = 0, sendFailures_ = 0;
+  timespec start_{};
+  plugin::TickPacer pacer_;
+  int lastSendErrno_ = 0;
+  std::string lastSendBus_;
+};
+
+}  // namespace ballast::socketcan

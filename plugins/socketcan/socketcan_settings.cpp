@@ -1,0 +1,167 @@
+#include "socketcan_settings.hpp"
+
+#include <cmath>
+#include <limits>
+#include <set>
+
+namespace ballast::socketcan {
+namespace {
+
+constexpr double kNone = 0.0;
+constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
+
+using S = SocketcanSettings;
+using K = plugin::KeyType;
+
+// A motor entry's keys, and the ranges it may set (NaN until filled from ranges.*).
+const std::vector<std::string> kMotorKeys = {"bus", "id", "position", "velocity", "torque",
+                                             "kp", "kd", "direction", "offset"};
+
+void parseMotors(S& s, const YAML::Node& node, const plugin::SectionCursor& c) {
+  s.motors.clear();
+  if (node.IsNull()) return;
+  if (!node.IsMap())
+    c.fail(node.Mark(), "motors", "expected a map of URDF joint: {bus, id, ...}, got " +
+                                      plugin::SectionCursor::describe(node));
+  for (const auto& e : node) {
+    const std::string joint = e.first.Scalar();
+    const std::string key = "motors." + joint;
+    const YAML::Node& m = e.second;
+    if (!m.IsMap())
+      c.fail(m.Mark(), key, "expected {bus: ..., id: ...}, got " + plugin::SectionCursor::describe(m));
+    c.checkKeys(m, kMotorKeys, key);
+    c.record(key, e.first.Mark());
+    MotorEntry motor;
+    motor.joint = joint;
+    if (!m["bus"]) c.fail(e.first.Mark(), key, "needs bus: (one of buses)");
+    if (!m["id"]) c.fail(e.first.Mark(), key, "needs id: (the motor's CAN id)");
+    motor.bus = c.text(m["bus"], key + ".bus");
+    c.record(key + ".bus", m["bus"].Mark());
+    motor.id = static_cast<int>(c.integer(m["id"], 1, 255, key + ".id"));  // one byte in a reply
+    c.record(key + ".id", m["id"].Mark());
+    auto range = [&](const char* name, double lo, double hi) {
+      if (!m[name]) return kUnset;
+      c.record(key + "." + name, m[name].Mark());
+      return c.number(m[name], lo, hi, key + "." + name);
+    };
+    motor.ranges.position = range("position", 0.1, 1000);
+    motor.ranges.velocity = range("velocity", 0.1, 1000);
+    motor.ranges.torque = range("torque", 0.1, 10000);
+    motor.ranges.kp = range("kp", 0.1, 1e5);
+    motor.ranges.kd = range("kd", 0.01, 1e4);
+    if (m["direction"]) {
+      const double d = c.number(m["direction"], -1, 1, key + ".direction");
+      if (d != 1.0 && d != -1.0) c.fail(m["direction"].Mark(), key + ".direction", "must be 1 or -1");
+      motor.direction = d;
+    }
+    if (m["offset"]) motor.offset = c.number(m["offset"], -1000, 1000, key + ".offset");
+    s.motors.push_back(motor);
+  }
+}
+
+// clang-format off
+const std::vector<SettingKey> kKeys = {
+  // name, type, default, min, max, choices, group, doc, field
+  {"buses", K::kStrings, "[can0]", kNone, kNone, "", "Buses",
+   "CAN interfaces (\"can0\"), or fd:N for an emulated bus (an open SOCK_SEQPACKET socket carrying struct can_frame)",
+   &S::buses},
+  {"host_id", K::kInteger, "0", 0, 2047, "", "Buses", "CAN id the motors reply to", &S::host_id},
+  {"reply_timeout", K::kNumber, "0.003", 0.0005, 1, "", "Buses",
+   "a motor silent this long (s) is a fault (damp)", &S::reply_timeout},
+  {"enable_timeout", K::kNumber, "0.5", 0.01, 10, "", "Buses",
+   "start(): how long (s) every motor has to answer the enable command", &S::enable_timeout},
+  {"lockstep_timeout", K::kNumber, "2", 0.01, 60, "", "Buses",
+   "lockstep (emulated buses): wall time (s) a tick waits for every reply", &S::lockstep_timeout},
+  {"zero_on_start", K::kBool, "false", kNone, kNone, "", "Buses",
+   "start(): set every motor's present position as its zero (calibration pose only)", &S::zero_on_start},
+  {"disable_on_stop", K::kBool, "true", kNone, kNone, "", "Buses",
+   "stop(): take every motor out of motor mode", &S::disable_on_stop},
+  {"log", K::kString, "\"\"", kNone, kNone, "", "Buses",
+   "candump-format log of every frame sent and received (\"\": none)", &S::log},
+
+  {"imu.enabled", K::kBool, "true", kNone, kNone, "", "IMU",
+   "an IMU on the bus (imu_protocol.hpp); without it there is no estimate", &S::imu_enabled},
+  {"imu.bus", K::kString, "\"\"", kNone, kNone, "", "IMU", "its bus (\"\": the first)", &S::imu_bus},
+  {"imu.id", K::kInteger, "256", 1, 2045, "", "IMU",
+   "CAN id of its first frame (it uses id, id + 1, id + 2)", &S::imu_id},
+  {"imu.timeout", K::kNumber, "0.005", 0.001, 1, "", "IMU",
+   "an IMU silent this long (s) is a fault (damp)", &S::imu_timeout},
+
+  {"ranges.position", K::kNumber, "12.5", 0.1, 1000, "", "Motor ranges (defaults of every motor's)",
+   "±rad the MIT position field spans", &S::ranges_position},
+  {"ranges.velocity", K::kNumber, "45", 0.1, 1000, "", "Motor ranges (defaults of every motor's)",
+   "±rad/s of the velocity field", &S::ranges_velocity},
+  {"ranges.torque", K::kNumber, "0", 0, 10000, "", "Motor ranges (defaults of every motor's)",
+   "±N·m of the torque field (0: the joint's URDF effort limit)", &S::ranges_torque},
+  {"ranges.kp", K::kNumber, "500", 0.1, 1e5, "", "Motor ranges (defaults of every motor's)",
+   "N·m/rad the kp field spans from 0", &S::ranges_kp},
+  {"ranges.kd", K::kNumber, "5", 0.01, 1e4, "", "Motor ranges (defaults of every motor's)",
+   "N·m·s/rad the kd field spans from 0", &S::ranges_kd},
+
+  {"motors", K::kCustom, "{}", kNone, kNone, "", "Motors",
+   "URDF joint -> {bus, id, position, velocity, torque, kp, kd, direction (1 or -1), offset (rad)}; every movable joint needs one",
+   {}, &parseMotors},
+};
+// clang-format on
+
+int busIndex(const S& s, const std::string& bus) {
+  for (std::size_t i = 0; i < s.buses.size(); ++i)
+    if (s.buses[i] == bus) return static_cast<int>(i);
+  return -1;
+}
+
+std::string busList(const S& s) {
+  std::string list;
+  for (const auto& b : s.buses) list += (list.empty() ? "" : ", ") + b;
+  return list;
+}
+
+void checkAcrossKeys(S& s) {
+  if (s.buses.empty()) throw SettingsError(s.where("buses") + "needs at least one bus");
+  for (std::size_t i = 0; i < s.buses.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (s.buses[i] == s.buses[j])
+        throw SettingsError(s.where("buses") + s.buses[i] + " is listed twice");
+  s.imuBusIndex = s.imu_bus.empty() ? 0 : busIndex(s, s.imu_bus);
+  if (s.imuBusIndex < 0)
+    throw SettingsError(s.where("imu.bus") + s.imu_bus + " is not one of buses (" + busList(s) + ")");
+  std::set<std::pair<int, int>> used;  // (bus, id)
+  std::set<std::string> joints;
+  for (MotorEntry& m : s.motors) {
+    const std::string key = "motors." + m.joint;
+    m.busIndex = busIndex(s, m.bus);
+    if (m.busIndex < 0)
+      throw SettingsError(s.where(key + ".bus") + m.bus + " is not one of buses (" + busList(s) + ")");
+    if (m.id == s.host_id)
+      throw SettingsError(s.where(key + ".id") + std::to_string(m.id) +
+                          " is host_id, the id replies are sent to");
+    if (s.imu_enabled && m.busIndex == s.imuBusIndex && m.id >= s.imu_id && m.id <= s.imu_id + 2)
+      throw SettingsError(s.where(key + ".id") + std::to_string(m.id) + " is one of the IMU's ids (" +
+                          std::to_string(s.imu_id) + ".." + std::to_string(s.imu_id + 2) + ")");
+    if (!used.insert({m.busIndex, m.id}).second)
+      throw SettingsError(s.where(key + ".id") + std::to_string(m.id) + " is used twice on " + m.bus);
+    MotorRanges& r = m.ranges;
+    if (std::isnan(r.position)) r.position = s.ranges_position;
+    if (std::isnan(r.velocity)) r.velocity = s.ranges_velocity;
+    if (std::isnan(r.torque)) {
+      r.torque = s.ranges_torque;
+      m.torqueFromUrdf = s.ranges_torque == 0.0;
+    }
+    if (std::isnan(r.kp)) r.kp = s.ranges_kp;
+    if (std::isnan(r.kd)) r.kd = s.ranges_kd;
+  }
+}
+
+}  // namespace
+
+const std::vector<SettingKey>& socketcanSettingKeys() { return kKeys; }
+
+SocketcanSettings parseSocketcanSettings(const std::string& yaml, const std::string& origin) {
+  SocketcanSettings s = plugin::parseSection(kKeys, yaml, origin, "the socketcan backend section");
+  checkAcrossKeys(s);
+  return s;
+}
+
+std::string socketcanSettingsReference() { return plugin::sectionReference(kKeys); }
+
+}  // namespace ballast::socketcan

@@ -1,0 +1,97 @@
+// The socketcan backend's profile section: every key declared once in a table
+// (socketcanSettingKeys(), socketcan_settings.cpp) with type, default, bounds and doc, parsed by
+// the plugins' section parser: errors read `file:line:column: key: what is wrong`.
+//
+// Example (the humanoid on two buses; every key but motors has a default):
+//
+//   buses: [can0, can1]
+//   reply_timeout: 0.003
+//   log: /var/log/ballast/can.log
+//   imu: {bus: can0, id: 0x100}
+//   ranges: {position: 12.5, velocity: 30, kp: 500, kd: 10}   # defaults for every motor
+//   motors:
+//     left_hip_yaw: {bus: can0, id: 1}
+//     left_knee: {bus: can0, id: 4, torque: 300, direction: -1, offset: 0.1}
+//     ...
+//
+// Keys (name, type, default, bounds or choices, meaning):
+//   Buses
+//   buses                         strings [can0]                        CAN interfaces ("can0"), or fd:N for an emulated bus (an open SOCK_SEQPACKET socket carrying struct can_frame)
+//   host_id                       integer 0              [0, 2047]      CAN id the motors reply to
+//   reply_timeout                 number  0.003          [0.0005, 1]    a motor silent this long (s) is a fault (damp)
+//   enable_timeout                number  0.5            [0.01, 10]     start(): how long (s) every motor has to answer the enable command
+//   lockstep_timeout              number  2              [0.01, 60]     lockstep (emulated buses): wall time (s) a tick waits for every reply
+//   zero_on_start                 bool    false                         start(): set every motor's present position as its zero (calibration pose only)
+//   disable_on_stop               bool    true                          stop(): take every motor out of motor mode
+//   log                           string  ""                            candump-format log of every frame sent and received ("": none)
+//
+//   IMU
+//   imu.enabled                   bool    true                          an IMU on the bus (imu_protocol.hpp); without it there is no estimate
+//   imu.bus                       string  ""                            its bus ("": the first)
+//   imu.id                        integer 256            [1, 2045]      CAN id of its first frame (it uses id, id + 1, id + 2)
+//   imu.timeout                   number  0.005          [0.001, 1]     an IMU silent this long (s) is a fault (damp)
+//
+//   Motor ranges (defaults of every motor's)
+//   ranges.position               number  12.5           [0.1, 1000]    ±rad the MIT position field spans
+//   ranges.velocity               number  45             [0.1, 1000]    ±rad/s of the velocity field
+//   ranges.torque                 number  0              [0, 10000]     ±N·m of the torque field (0: the joint's URDF effort limit)
+//   ranges.kp                     number  500            [0.1, 100000]  N·m/rad the kp field spans from 0
+//   ranges.kd                     number  5              [0.01, 10000]  N·m·s/rad the kd field spans from 0
+//
+//   Motors
+//   motors                        map     {}                            URDF joint -> {bus, id, position, velocity, torque, kp, kd, direction (1 or -1), offset (rad)}; every movable joint needs one
+//
+// A motor's joint angle is q = offset + direction · p, with p the motor's position; velocity and
+// torque follow the direction. Commands are clamped to each motor's ranges before packing.
+//
+// test/integration/socketcan/settings_test.cpp checks that this comment lists every key.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "mit_protocol.hpp"
+#include "section_settings.hpp"
+
+namespace ballast::socketcan {
+
+using plugin::SettingsError;
+
+struct MotorEntry {
+  std::string joint;
+  std::string bus;
+  int busIndex = 0;  ///< into SocketcanSettings::buses
+  int id = 0;
+  MotorRanges ranges;
+  bool torqueFromUrdf = false;  ///< ranges.torque is 0: the backend sets the URDF effort limit
+  double direction = 1.0;
+  double offset = 0.0;
+};
+
+struct SocketcanSettings : plugin::SectionLocations {
+  std::vector<std::string> buses;
+  int host_id;
+  double reply_timeout, enable_timeout, lockstep_timeout;
+  bool zero_on_start, disable_on_stop;
+  std::string log;
+  bool imu_enabled;
+  std::string imu_bus;
+  int imu_id;
+  double imu_timeout;
+  double ranges_position, ranges_velocity, ranges_torque, ranges_kp, ranges_kd;
+  /// In the order given, each one's unset ranges from ranges.*.
+  std::vector<MotorEntry> motors;
+  int imuBusIndex = 0;
+};
+
+using SettingKey = plugin::SettingKey<SocketcanSettings>;
+const std::vector<SettingKey>& socketcanSettingKeys();
+
+/// Parses and validates the section (buses named by motors and the IMU exist, ids unique per
+/// bus and not the host's or the IMU's); throws SettingsError.
+SocketcanSettings parseSocketcanSettings(const std::string& yaml, const std::string& origin);
+
+std::string socketcanSettingsReference();
+
+}  // namespace ballast::socketcan

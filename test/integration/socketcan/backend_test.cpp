@@ -1,0 +1,336 @@
+// The socketcan backend against emulated motors on two socketpair buses (the humanoid: legs on
+// one, arms on the other): the enable and disable sequences, commands and replies through the
+// MIT protocol, clamping, silent motors and IMU faults, candump logs; and the same round trip on
+// vcan0 where the kernel has SocketCAN.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <chrono>
+#include <thread>
+
+#include "socketcan_backend.hpp"
+#include "test/integration/socketcan/can_rig.hpp"
+
+namespace ballast::socketcan::test {
+namespace {
+
+using backend::Status;
+
+struct Rig {
+  explicit Rig(bool lockstep, const std::string& extra = "",
+               const std::map<std::string, std::string>& overrides = {}, bool startRobot = true)
+      : buses(2) {
+    section = sectionFor(buses, map, extra, overrides);
+    urdf = humanoidUrdf();
+    config.section_yaml = section.c_str();
+    config.section_origin = "robot.yaml:20";
+    config.urdf_path = urdf.c_str();
+    config.period = 0.001;
+    config.lockstep = lockstep;
+    if (startRobot) robot = std::make_unique<KinematicRobot>(buses, map, !lockstep);
+  }
+  bool configureAndStart(backend::Error& error) {
+    return can.configure(config, error) && can.start(error);
+  }
+  /// n ticks holding `commands`; the first status other than kOk, else kOk. (A real-time tick
+  /// that overran is not what these tests are about: a loaded machine may overrun.)
+  Status ticks(int n, const backend::Commands& commands) {
+    for (int k = 0; k < n; ++k) {
+      Status s = can.read(sensors);
+      if (s == Status::kOk) s = can.write(commands);
+      if (s == Status::kOk) s = can.advance();
+      if (s != Status::kOk && s != Status::kOverrun) return s;
+    }
+    return Status::kOk;
+  }
+  backend::Commands hold() const {
+    backend::Commands c;
+    c.num_joints = static_cast<int>(map.joints.size());
+    for (int j = 0; j < c.num_joints; ++j) {
+      c.joint[j].q_des = 0.1;
+      c.joint[j].kp = 50;
+      c.joint[j].kd = 2;
+    }
+    return c;
+  }
+
+  EmulatedBuses buses;
+  MotorMap map;
+  std::string section, urdf;
+  backend::Config config;
+  std::unique_ptr<KinematicRobot> robot;
+  SocketcanBackend can;
+  backend::Sensors sensors;
+};
+
+TEST(SocketcanBackend, EnablesEveryMotorAtStartAndDisablesThemAtStop) {
+  Rig rig(/*lockstep=*/true);
+  backend::Error error;
+  ASSERT_TRUE(rig.configureAndStart(error)) << error.message;
+  const backend::Capabilities& caps = rig.can.capabilities();
+  EXPECT_STREQ(caps.name, "socketcan");
+  EXPECT_FALSE(caps.simulation);
+  EXPECT_TRUE(caps.lockstep);  // emulated buses
+  EXPECT_FALSE(caps.ground_truth);
+  ASSERT_EQ(caps.num_joints, 24);
+  EXPECT_STREQ(caps.joint_names[0], rig.map.joints[0].c_str());
+  rig.robot->with([](CanEmulator& e) {
+    for (const auto& m : e.motors()) {
+      EXPECT_EQ(m.enables, 1) << m.id;
+      EXPECT_TRUE(m.enabled);
+    }
+  });
+  ASSERT_EQ(rig.ticks(50, rig.hold()), Status::kOk) << rig.can.lastError().message;
+  rig.can.stop();
+  rig.can.stop();  // idempotent
+  rig.robot->stop();
+  rig.robot->with([](CanEmulator& e) {
+    for (const auto& m : e.motors()) {
+      EXPECT_EQ(m.disables, 1) << m.id;
+      EXPECT_FALSE(m.enabled);
+      EXPECT_EQ(m.zeroes, 0);
+      EXPECT_EQ(m.commands, 50);
+    }
+    EXPECT_EQ(e.strayFrames(), 0);
+  });
+}
+
+TEST(SocketcanBackend, ZeroOnStartZeroesEveryMotorAfterEnablingIt) {
+  Rig rig(true, "zero_on_start: true\n");
+  rig.robot->with([](CanEmulator& e) {
+    for (int i = 0; i < static_cast<int>(e.motors().size()); ++i) e.motor(i).position = 0.3;
+  });
+  backend::Error error;
+  ASSERT_TRUE(rig.configureAndStart(error)) << error.message;
+  ASSERT_EQ(rig.ticks(1, rig.hold()), Status::kOk);
+  rig.robot->with([](CanEmulator& e) {
+    for (const auto& m : e.motors()) EXPECT_EQ(m.zeroes, 1) << m.id;
+  });
+  // The joints read the new zero (plus what one tick of the emulator's motion moved them).
+  for (int j = 0; j < rig.sensors.num_joints; ++j) EXPECT_NEAR(rig.sensors.q[j], 0.0, 0.01) << j;
+}
+
+TEST(SocketcanBackend, CommandsAndStatesCrossTheBusWithinTheirResolution) {
+  // One motor mounted the other way round, with an offset: the joint sees q = 0.1 − p.
+  Rig rig(true, "", {{"left_knee", "direction: -1, offset: 0.1"}});
+  backend::Error error;
+  ASSERT_TRUE(rig.configureAndStart(error)) << error.message;
+  const int knee = rig.robot->motorOf("left_knee"), elbow = rig.robot->motorOf("right_elbow");
+  backend::Commands c = rig.hold();
+  c.joint[knee] = backend::JointCommand{30.0, 0.9, 0.5, 120.0, 3.0};
+  c.joint[elbow] = backend::JointCommand{-12.0, -0.4, -1.0, 40.0, 1.0};
+  ASSERT_EQ(rig.ticks(1, c), Status::kOk) << rig.can.lastError().message;
+  rig.robot->with([&](CanEmulator& e) {
+    const MitCommand& k = e.motor(knee).command;  // the motor's side: direction −1, offset 0.1
+    EXPECT_NEAR(k.position, -(0.9 - 0.1), 25.0 / 65535);
+    EXPECT_NEAR(k.velocity, -0.5, 90.0 / 4095);
+    EXPECT_NEAR(k.torque, -30.0, 500.0 / 4095);  // URDF effort 250: ±250
+    EXPECT_NEAR(k.kp, 120.0, 500.0 / 4095);
+    EXPECT_NEAR(k.kd, 3.0, 10.0 / 4095);
+    const MitCommand& w = e.motor(elbow).command;
+    EXPECT_NEAR(w.position, -0.4, 25.0 / 65535);
+    EXPECT_NEAR(w.torque, -12.0, 120.0 / 4095);  // effort 60
+    // And back: the motors' positions as the joints read them.
+    e.motor(knee).position = -0.5;
+    e.motor(elbow).position = 0.25;
+  });
+  // The emulator moves every motor a little on each command; read what it reports.
+  ASSERT_EQ(rig.can.read(rig.sensors), Status::kOk) << rig.can.lastError().message;
+  double kneeMotor = 0, elbowMotor = 0;
+  rig.robot->with([&](CanEmulator& e) {
+    kneeMotor = e.motor(knee).position;
+    elbowMotor = e.motor(elbow).position;
+  });
+  // (The read above carries the replies of the last tick; one more tick for the values set.)
+  ASSERT_EQ(rig.can.write(c), Status::kOk);
+  ASSERT_EQ(rig.can.advance(), Status::kOk);
+  ASSERT_EQ(rig.can.read(rig.sensors), Status::kOk);
+  rig.robot->with([&](CanEmulator& e) {
+    kneeMotor = e.motor(knee).position;
+    elbowMotor = e.motor(elbow).position;
+  });
+  EXPECT_NEAR(rig.sensors.q[knee], 0.1 - kneeMotor, 25.0 / 65535);
+  EXPECT_NEAR(rig.sensors.q[elbow], elbowMotor, 25.0 / 65535);
+  EXPECT_TRUE(rig.sensors.imu_valid);
+  EXPECT_NEAR(rig.sensors.imu.linear_acceleration[2], 9.81, kAccelFullScale / 32767);
+  EXPECT_NEAR(rig.sensors.imu.orientation[3], 1.0, 1e-4);
+  EXPECT_FALSE(rig.sensors.has_truth);
+  EXPECT_NEAR(rig.sensors.time, 0.002, 1e-12);  // lockstep: two ticks of 1 ms
+}
+
+TEST(SocketcanBackend, CommandsBeyondAMotorsRangesAreClampedAndCounted) {
+  Rig rig(true);
+  backend::Error error;
+  ASSERT_TRUE(rig.configureAndStart(error)) << error.message;
+  const int wrist = rig.robot->motorOf("left_wrist_yaw");  // effort 15 N·m
+  backend::Commands c = rig.hold();
+  c.joint[wrist].tau_ff = 40.0;
+  c.joint[wrist].kd = 50.0;  // ranges.kd is 10
+  ASSERT_EQ(rig.ticks(1, c), Status::kOk);
+  EXPECT_EQ(rig.can.clampedValues(), 2u);
+  rig.robot->with([&](CanEmulator& e) {
+    EXPECT_DOUBLE_EQ(e.motor(wrist).command.torque, 15.0);
+    EXPECT_DOUBLE_EQ(e.motor(wrist).command.kd, 10.0);
+  });
+}
+
+TEST(SocketcanBackend, ASilentMotorIsAFaultThatNamesIt) {
+  // Real time: the emulator answers each command at once; one motor falls silent. (The timeout
+  // leaves room for a loaded test machine.)
+  Rig rig(/*lockstep=*/false, "reply_timeout: 0.05\n");
+  backend::Error error;
+  ASSERT_TRUE(rig.configureAndStart(error)) << error.message;
+  EXPECT_FALSE(rig.can.capabilities().simulation);
+  const backend::Commands c = rig.hold();
+  ASSERT_EQ(rig.ticks(20, c), Status::kOk) << rig.can.lastError().message;
+  rig.robot->with([&](CanEmulator& e) { e.motor(rig.robot->motorOf("left_knee")).silent = true; });
+  const double silentFrom = rig.sensors.time;
+  Status s = Status::kOk;
+  for (int k = 0; k < 500 && s == Status::kOk; ++k) s = rig.ticks(1, c);
+  EXPECT_EQ(s, Status::kFault);
+  EXPECT_GE(rig.sensors.time - silentFrom, 0.05 - 0.002);  // not before its timeout
+  const std::string message = rig.can.lastError().message;
+  EXPECT_NE(message.find("left_knee (" + rig.buses.spec(0) + " id 4)"), std::string::npos) << message;
+  EXPECT_NE(message.find("reply_timeout"), std::string::npos) << message;
+  // Faulted stays faulted.
+  EXPECT_EQ(rig.can.read(rig.sensors), Status::kFault);
+}
+
+TEST(SocketcanBackend, LockstepWaitsForEveryReplyAndNamesTheMissingOnes) {
+  Rig rig(true, "lockstep_timeout: 0.05\n");
+  backend::Error error;
+  ASSERT_TRUE(rig.configureAndStart(error)) << error.message;
+  ASSERT_EQ(rig.ticks(10, rig.hold()), Status::kOk);
+  rig.robot->with([&](CanEmulator& e) { e.motor(rig.robot->motorOf("right_hip_roll")).silent = true; });
+  EXPECT_EQ(rig.ticks(1, rig.hold()), Status::kFault);
+  const std::string message = rig.can.lastError().message;
+  EXPECT_NE(message.find("right_hip_roll (" + rig.buses.spec(0) + " id 8)"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("lockstep_timeout"), std::string::npos) << message;
+}
+
+TEST(SocketcanBackend, StartNamesTheMotorsThatDoNotAnswer) {
+  Rig rig(true, "enable_timeout: 0.05\n");
+  rig.robot->with([&](CanEmulator& e) {
+    e.motor(rig.robot->motorOf("left_elbow")).silent = true;
+    e.motor(rig.robot->motorOf("right_ankle_roll")).silent = true;
+  });
+  backend::Error error;
+  ASSERT_TRUE(rig.can.configure(rig.config, error)) << error.message;
+  EXPECT_FALSE(rig.can.start(error));
+  const std::string message = error.message;
+  EXPECT_NE(message.find("no answer to the enable command"), std::string::npos) << message;
+  EXPECT_NE(message.find("right_ankle_roll (" + rig.buses.spec(0) + " id 12)"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("left_elbow (" + rig.buses.spec(1) + " id 4)"), std::string::npos) << message;
+  EXPECT_NE(message.find("check power, wiring"), std::string::npos);
+  // The ones that did answer are disabled again (once the emulator has read the commands).
+  int stillEnabled = 0;
+  for (int tries = 0; tries < 200; ++tries) {
+    stillEnabled = 0;
+    rig.robot->with([&](CanEmulator& e) {
+      for (const auto& m : e.motors()) stillEnabled += m.enabled && !m.silent;
+    });
+    if (stillEnabled == 0) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  EXPECT_EQ(stillEnabled, 0);
+}
+
+TEST(SocketcanBackend, AnImuThatStopsSendingIsAFault) {
+  Rig rig(false, "imu: {timeout: 0.05}\nreply_timeout: 0.2\n");
+  backend::Error error;
+  ASSERT_TRUE(rig.configureAndStart(error)) << error.message;
+  ASSERT_EQ(rig.ticks(5, rig.hold()), Status::kOk) << rig.can.lastError().message;
+  rig.robot->silenceImu();  // the motors go on answering
+  Status s = Status::kOk;
+  for (int k = 0; k < 500 && s == Status::kOk; ++k) s = rig.ticks(1, rig.hold());
+  EXPECT_EQ(s, Status::kFault);
+  const std::string message = rig.can.lastError().message;
+  EXPECT_NE(message.find("the IMU (" + rig.buses.spec(0) + " id 256) sent no sample"),
+            std::string::npos)
+      << message;
+}
+
+TEST(SocketcanBackend, EveryFrameGoesToTheCandumpLog) {
+  const std::string log = (std::filesystem::temp_directory_path() /
+                           ("ballast-can-" + std::to_string(getpid()) + ".log")).string();
+  Rig rig(true, "log: " + log + "\n");
+  backend::Error error;
+  ASSERT_TRUE(rig.configureAndStart(error)) << error.message;
+  ASSERT_EQ(rig.ticks(10, rig.hold()), Status::kOk);
+  rig.can.stop();
+  std::ifstream in(log);
+  const std::regex line(R"(\(\d+\.\d{6}\) fd:\d+ ([0-9A-F]{3})#((?:[0-9A-F]{2})*))");
+  int enables = 0, disables = 0, commands = 0, replies = 0, imu = 0;
+  for (std::string l; std::getline(in, l);) {
+    std::smatch m;
+    ASSERT_TRUE(std::regex_match(l, m, line)) << l;
+    const std::string id = m[1], data = m[2];
+    if (id == "000") ++replies;
+    else if (id >= "100" && id <= "102") ++imu;
+    else if (data == "FFFFFFFFFFFFFFFC") ++enables;
+    else if (data == "FFFFFFFFFFFFFFFD") ++disables;
+    else if (data.size() == 16) ++commands;
+    else ADD_FAILURE() << "unexpected frame: " << l;
+  }
+  EXPECT_EQ(enables, 24);
+  EXPECT_EQ(commands, 24 * 10);
+  EXPECT_EQ(disables, 24);
+  EXPECT_GE(replies, 24 * 11);  // the enables' and 10 ticks' (the disables' may come after)
+  EXPECT_GE(imu, 3 * 10);
+  EXPECT_EQ(rig.can.settings().log, log);
+  std::filesystem::remove(log);
+}
+
+TEST(SocketcanBackend, ARealBusOnThisMachine) {
+  // On a kernel with SocketCAN and a vcan0 (`ip link add vcan0 type vcan`), an emulated motor
+  // sits on vcan0 beside the backend and answers its enable sequence; elsewhere the error says
+  // what is missing.
+  CanBus bus;
+  std::string error;
+  if (!bus.open("vcan0", error)) {
+    const bool noSocketCan = error.find("cannot open a CAN socket") != std::string::npos;
+    EXPECT_TRUE(noSocketCan || error.find("no such CAN interface") != std::string::npos) << error;
+    if (noSocketCan) {
+      EXPECT_NE(error.find("load the can and can_raw modules"), std::string::npos) << error;
+    }
+    GTEST_SKIP() << "no vcan0 here: " << error;
+  }
+  const std::string urdf = (std::filesystem::temp_directory_path() /
+                            ("ballast-one-joint-" + std::to_string(getpid()) + ".urdf")).string();
+  std::ofstream(urdf) << R"(<robot name="one"><link name="a"><inertial><mass value="1"/>
+    <inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>
+    <link name="b"><inertial><mass value="1"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0"
+    ixz="0" iyz="0"/></inertial></link><joint name="j1" type="revolute"><parent link="a"/>
+    <child link="b"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" effort="20" velocity="5"/>
+    </joint></robot>)";
+  CanEmulator emu;
+  const int b = emu.addBus(bus.fd());
+  MotorRanges r;
+  r.torque = 20;
+  emu.addMotor(b, 4, r);
+  SocketcanBackend can;
+  const std::string section = "buses: [vcan0]\nimu: {enabled: false}\nmotors:\n  j1: {bus: vcan0, id: 4}\n";
+  backend::Config config;
+  config.section_yaml = section.c_str();
+  config.section_origin = "vcan.yaml:1";
+  config.urdf_path = urdf.c_str();
+  backend::Error e;
+  ASSERT_TRUE(can.configure(config, e)) << e.message;
+  std::atomic<bool> done{false};
+  std::thread answer([&] { while (!done) emu.pump(5); });
+  EXPECT_TRUE(can.start(e)) << e.message;
+  can.stop();
+  done = true;
+  answer.join();
+  EXPECT_EQ(emu.motors()[0].enables, 1);
+  EXPECT_EQ(emu.motors()[0].disables, 1);
+  std::filesystem::remove(urdf);
+}
+
+}  // namespace
+}  // namespace ballast::socketcan::test

@@ -1,0 +1,154 @@
+// The socketcan backend's profile section: defaults, every kind of error with
+// file:line:column, the checks across keys, and the header comment that lists every key.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "socketcan_backend.hpp"
+#include "socketcan_settings.hpp"
+#include "test/integration/socketcan/can_rig.hpp"
+
+namespace ballast::socketcan {
+namespace {
+
+std::string errorOf(const std::string& yaml, const std::string& origin = "robot.yaml:10") {
+  try {
+    parseSocketcanSettings(yaml, origin);
+  } catch (const SettingsError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(SocketcanSettings, DefaultsAndMotorEntries) {
+  const SocketcanSettings s = parseSocketcanSettings(
+      "buses: [can0, can1]\nranges: {kd: 10}\nmotors:\n"
+      "  left_knee: {bus: can1, id: 4, torque: 300, direction: -1, offset: 0.1}\n"
+      "  left_hip_yaw: {bus: can0, id: 1}\n",
+      "robot.yaml:10");
+  EXPECT_EQ(s.buses, (std::vector<std::string>{"can0", "can1"}));
+  EXPECT_EQ(s.host_id, 0);
+  EXPECT_DOUBLE_EQ(s.reply_timeout, 0.003);
+  EXPECT_TRUE(s.imu_enabled);
+  EXPECT_EQ(s.imu_id, 0x100);
+  EXPECT_EQ(s.imuBusIndex, 0);
+  ASSERT_EQ(s.motors.size(), 2u);
+  const MotorEntry& knee = s.motors[0];
+  EXPECT_EQ(knee.joint, "left_knee");
+  EXPECT_EQ(knee.busIndex, 1);
+  EXPECT_EQ(knee.id, 4);
+  EXPECT_DOUBLE_EQ(knee.ranges.torque, 300);
+  EXPECT_FALSE(knee.torqueFromUrdf);
+  EXPECT_DOUBLE_EQ(knee.ranges.kd, 10);  // from ranges.kd
+  EXPECT_DOUBLE_EQ(knee.ranges.position, 12.5);
+  EXPECT_DOUBLE_EQ(knee.direction, -1);
+  EXPECT_DOUBLE_EQ(knee.offset, 0.1);
+  EXPECT_TRUE(s.motors[1].torqueFromUrdf);  // ranges.torque 0: the URDF's effort
+  EXPECT_EQ(s.where("motors.left_knee.id"), "robot.yaml:13:30: motors.left_knee.id: ");
+}
+
+TEST(SocketcanSettings, CanIdsMayBeHexadecimal) {
+  const SocketcanSettings s =
+      parseSocketcanSettings("imu: {id: 0x100}\nmotors:\n  a: {bus: can0, id: 0x0A}\n", "r.yaml:1");
+  EXPECT_EQ(s.imu_id, 256);
+  EXPECT_EQ(s.motors[0].id, 10);
+  EXPECT_EQ(errorOf("imu: {id: 0x1000}\n"), "robot.yaml:10:11: imu.id: 0x1000 is out of range [1, 2045]");
+}
+
+TEST(SocketcanSettings, TheShippedHardwareProfileHasAMotorForEveryJoint) {
+  const YAML::Node profile =
+      YAML::LoadFile(std::string(BALLAST_SOURCE_DIR) + "/profiles/hardware-example.yaml");
+  YAML::Emitter out;
+  out << profile["backend"]["socketcan"];
+  const SocketcanSettings s = parseSocketcanSettings(out.c_str(), "hardware-example.yaml:1");
+  std::vector<std::string> joints;
+  for (const MotorEntry& m : s.motors) joints.push_back(m.joint);
+  EXPECT_EQ(joints, test::humanoidJoints());
+  EXPECT_EQ(s.buses, (std::vector<std::string>{"can0", "can1"}));
+  EXPECT_EQ(s.imu_id, 0x100);
+}
+
+TEST(SocketcanSettings, ErrorsSayFileLineColumnKeyAndWhatIsWrong) {
+  EXPECT_EQ(errorOf("bueses: [can0]\n"), "robot.yaml:10:1: bueses: unknown key (did you mean buses?)");
+  EXPECT_EQ(errorOf("reply_timeout: 5\n"),
+            "robot.yaml:10:16: reply_timeout: 5 is out of range [0.0005, 1]");
+  EXPECT_EQ(errorOf("buses: can0\n"), "robot.yaml:10:8: buses: expected a list of strings, got 'can0'");
+  EXPECT_EQ(errorOf("motors:\n  left_knee: {bus: can1, id: 4}\n"),
+            "robot.yaml:11:20: motors.left_knee.bus: can1 is not one of buses (can0)");
+  EXPECT_EQ(errorOf("motors:\n  a: {bus: can0, id: 4}\n  b: {bus: can0, id: 4}\n"),
+            "robot.yaml:12:22: motors.b.id: 4 is used twice on can0");
+  EXPECT_EQ(errorOf("motors:\n  a: {bus: can0, id: 0}\n"),
+            "robot.yaml:11:22: motors.a.id: 0 is out of range [1, 255]");
+  EXPECT_EQ(errorOf("host_id: 5\nmotors:\n  a: {bus: can0, id: 5}\n"),
+            "robot.yaml:12:22: motors.a.id: 5 is host_id, the id replies are sent to");
+  EXPECT_EQ(errorOf("imu: {id: 10}\nmotors:\n  a: {bus: can0, id: 11}\n"),
+            "robot.yaml:12:22: motors.a.id: 11 is one of the IMU's ids (10..12)");
+  EXPECT_EQ(errorOf("motors:\n  a: {bus: can0, id: 1, torqe: 5}\n"),
+            "robot.yaml:11:25: motors.a.torqe: unknown key (did you mean torque?)");
+  EXPECT_EQ(errorOf("motors:\n  a: {bus: can0, id: 1, direction: 0.5}\n"),
+            "robot.yaml:11:36: motors.a.direction: must be 1 or -1");
+  EXPECT_EQ(errorOf("motors:\n  a: {id: 1}\n"), "robot.yaml:11:3: motors.a: needs bus: (one of buses)");
+  EXPECT_EQ(errorOf("buses: [can0, can0]\n"), "robot.yaml:10:1: buses: can0 is listed twice");
+  EXPECT_EQ(errorOf("imu: {bus: can9}\n"), "robot.yaml:10:7: imu.bus: can9 is not one of buses (can0)");
+}
+
+TEST(SocketcanSettings, TheBackendChecksTheSectionAgainstTheUrdf) {
+  using namespace test;
+  EmulatedBuses buses(2);
+  MotorMap map;
+  const std::string urdf = humanoidUrdf();
+  auto configureWith = [&](const std::string& section) {
+    SocketcanBackend can;
+    backend::Config config;
+    config.section_yaml = section.c_str();
+    config.section_origin = "robot.yaml:20";
+    config.urdf_path = urdf.c_str();
+    backend::Error error;
+    return can.configure(config, error) ? std::string() : std::string(error.message);
+  };
+  std::string section = sectionFor(buses, map);
+  EXPECT_EQ(configureWith(section), "");
+  // A joint without a motor.
+  const std::string noKnee = section.substr(0, section.find("  left_knee:")) +
+                             section.substr(section.find('\n', section.find("  left_knee:")) + 1);
+  EXPECT_NE(configureWith(noKnee).find("joint left_knee of " + urdf + " has no motor"),
+            std::string::npos)
+      << configureWith(noKnee);
+  // A motor for no joint.
+  EXPECT_NE(configureWith(section + "  tail: {bus: " + buses.spec(0) + ", id: 99}\n")
+                .find("robot.yaml:47:3: motors.tail: " + urdf + " has no movable joint tail"),
+            std::string::npos)
+      << configureWith(section + "  tail: {bus: " + buses.spec(0) + ", id: 99}\n");
+  // A bus that is not an open socket.
+  std::string badBus = section;
+  for (auto at = badBus.find(buses.spec(0)); at != std::string::npos; at = badBus.find(buses.spec(0)))
+    badBus.replace(at, buses.spec(0).size(), "fd:999");
+  const std::string closed = configureWith(badBus);
+  EXPECT_NE(closed.find("bus fd:999: not an open socket"), std::string::npos) << closed;
+}
+
+TEST(SocketcanSettings, TheHeaderCommentListsEveryKeyWithItsDefault) {
+  std::ifstream in(std::string(BALLAST_SOURCE_DIR) + "/plugins/socketcan/socketcan_settings.hpp");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string header = text.str();
+  for (const SettingKey& key : socketcanSettingKeys()) {
+    std::istringstream lines(header);
+    bool found = false;
+    for (std::string line; std::getline(lines, line);) {
+      std::istringstream words(line);
+      std::string slashes, name, type, value;
+      words >> slashes >> name >> type >> value;
+      if (slashes == "//" && name == key.name) {
+        found = true;
+        EXPECT_EQ(type, plugin::typeName(key.type)) << key.name;
+        EXPECT_EQ(value, key.defaultYaml) << key.name;
+      }
+    }
+    EXPECT_TRUE(found) << key.name << " is not in the header comment";
+  }
+}
+
+}  // namespace
+}  // namespace ballast::socketcan
