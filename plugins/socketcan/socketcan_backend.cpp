@@ -110,7 +110,7 @@ bool SocketcanBackend::send(int bus, const can_frame& frame) {
   if (buses_[static_cast<std::size_t>(bus)].send(frame)) return true;
   ++sendFailures_;
   lastSendErrno_ = buses_[static_cast<std::size_t>(bus)].lastError();
-  lastSendBus_ = buses_[static_cast<std::size_t>(bus)].name();
+  lastSendBus_ = bus;
   return false;
 }
 
@@ -261,7 +261,8 @@ Status SocketcanBackend::read(backend::Sensors& s) {
     std::snprintf(message, sizeof message,
                   "socketcan: no reply for more than %.1f ms (reply_timeout) from %s%s%s%s",
                   timeout * 1e3, motorList(late).c_str(),
-                  lastSendErrno_ ? "; the last failed send on " : "", lastSendBus_.c_str(),
+                  lastSendErrno_ ? "; the last failed send on " : "",
+                  lastSendErrno_ ? settings_.buses[static_cast<std::size_t>(lastSendBus_)].c_str() : "",
                   lastSendErrno_ ? (std::string(": ") + std::strerror(lastSendErrno_)).c_str() : "");
     return fault(message);
   }

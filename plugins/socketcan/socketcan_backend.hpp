@@ -95,8 +95,7 @@ class SocketcanBackend final : public backend::Backend {
   std::uint64_t tick_ = 0, sequence_ = 0, clamped_ = 0, sendFailures_ = 0;
   timespec start_{};
   plugin::TickPacer pacer_;
-  int lastSendErrno_ = 0;
-  std::string lastSendBus_;
+  int lastSendErrno_ = 0, lastSendBus_ = 0;
 };
 
 }  // namespace ballast::socketcan

@@ -12,6 +12,7 @@
 #include <thread>
 
 #include "socketcan_backend.hpp"
+#include "test/unit/allocation_counter.hpp"
 #include "test/integration/socketcan/can_rig.hpp"
 
 namespace ballast::socketcan::test {
@@ -159,6 +160,21 @@ TEST(SocketcanBackend, CommandsAndStatesCrossTheBusWithinTheirResolution) {
   EXPECT_NEAR(rig.sensors.imu.orientation[3], 1.0, 1e-4);
   EXPECT_FALSE(rig.sensors.has_truth);
   EXPECT_NEAR(rig.sensors.time, 0.002, 1e-12);  // lockstep: two ticks of 1 ms
+}
+
+TEST(SocketcanBackend, ReadWriteAndAdvanceAllocateNothing) {
+  const std::string log = (std::filesystem::temp_directory_path() /
+                           ("ballast-can-alloc-" + std::to_string(getpid()) + ".log")).string();
+  Rig rig(true, "log: " + log + "\n");
+  backend::Error error;
+  ASSERT_TRUE(rig.configureAndStart(error)) << error.message;
+  const backend::Commands c = rig.hold();
+  ASSERT_EQ(rig.ticks(5, c), Status::kOk);
+  Status s = Status::kOk;
+  EXPECT_EQ(ballast::test::allocationsIn([&] { s = rig.ticks(200, c); }), 0);
+  EXPECT_EQ(s, Status::kOk);
+  rig.can.stop();
+  std::filesystem::remove(log);
 }
 
 TEST(SocketcanBackend, CommandsBeyondAMotorsRangesAreClampedAndCounted) {
