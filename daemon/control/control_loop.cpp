@@ -280,14 +280,18 @@ void ControlLoop::readSensors() {
     return;
   }
   t_ = sensors_.time;
-  // The contact schedule of the plan in force (standing: every point), flat terrain.
+  // The contact schedule of the plan in force (standing: every point) and the terrain heights
+  // its contact points stand on (from the planner's map; before a plan, the ground height).
   std::array<bool, kNumContacts> scheduled{true, true, true, true};
-  if (have_plan_) {
-    const gait::ContactFlags flags = plan_.plan.schedule.flagsAt(t_);
-    for (int c = 0; c < kNumContacts; ++c) scheduled[c] = flags[c];
-  }
   std::array<double, kNumContacts> terrain;
   terrain.fill(settings_->ground_height);
+  if (have_plan_) {
+    const gait::ContactFlags flags = plan_.plan.schedule.flagsAt(t_);
+    for (int c = 0; c < kNumContacts; ++c) {
+      scheduled[c] = flags[c];
+      terrain[c] = plan_.plan.supportHeight[c];
+    }
+  }
   sensors_ok_ = estimator_.update(sensors_, q_, dq_, tau_, scheduled, terrain, input_.state);
   // A localisation fix bounds the drift of leg odometry (the next update shows it).
   if (sensors_ok_ && sensors_.position_fix.fresh && settings_->use_position_fix &&

@@ -64,8 +64,10 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
       }
       s.apexHeight = terrain.maxHeightAlong(s.liftOffPosition.x(), s.liftOffPosition.y(),
                                             s.touchDownPosition.x(), s.touchDownPosition.y());
-      s.apexHeight = std::max({s.apexHeight, s.liftOffPosition.z(), s.touchDownPosition.z()}) +
-                     params_.apexClearance;
+      const double highest = std::max({s.apexHeight, s.liftOffPosition.z(), s.touchDownPosition.z()});
+      const double lowest = std::min(s.liftOffPosition.z(), s.touchDownPosition.z());
+      s.lift = highest - lowest > params_.stepHeight ? params_.stepLift : 0.0;
+      s.apexHeight = highest + params_.apexClearance;
       swings_[c][n++] = s;
       start = s.touchDownPosition;
       from = s.touchDown + 1e-6;

@@ -3,6 +3,9 @@
 // Horizontal: a cubic from the lift-off to the touch-down position with zero velocity at both
 // ends. Vertical: two cubics, lift-off height -> apex at mid-swing -> touch-down height, each
 // with zero vertical velocity at its ends, so the point leaves and lands vertically at rest.
+// Over a step (a stage edge, a stair), the horizontal cubic can be held back for a fraction of
+// the swing at each end (`lift`): the foot rises before it moves towards the edge and moves
+// before it comes down, instead of catching the edge with its toe.
 // All positions are world coordinates; velocity and acceleration are d/dt and d²/dt².
 #pragma once
 
@@ -30,17 +33,21 @@ struct SwingTrajectory {
   Eigen::Vector3d liftOffPosition = Eigen::Vector3d::Zero();
   Eigen::Vector3d touchDownPosition = Eigen::Vector3d::Zero();
   double apexHeight = 0.1;  ///< world z at mid-swing
+  double lift = 0.0;        ///< fraction of the swing at each end without horizontal motion
 
   /// Reference at time t (clamped to [liftOff, touchDown]).
   PointReference at(double t) const {
     const double duration = touchDown - liftOff;
     const double tau = std::clamp((t - liftOff) / duration, 0.0, 1.0);
     PointReference r;
-    const SmoothStep h(tau);
+    // Horizontal time runs over [lift, 1 − lift] of the swing.
+    const double span = 1.0 - 2.0 * lift;
+    const SmoothStep h(std::clamp((tau - lift) / span, 0.0, 1.0));
+    const double moving = duration * span;
     const Eigen::Vector3d delta = touchDownPosition - liftOffPosition;
     r.position = liftOffPosition + delta * h.s;
-    r.velocity = delta * (h.ds / duration);
-    r.acceleration = delta * (h.dds / (duration * duration));
+    r.velocity = delta * (h.ds / moving);
+    r.acceleration = delta * (h.dds / (moving * moving));
     // Vertical: two halves through the apex; time runs twice as fast in each half.
     const bool rising = tau < 0.5;
     const double z0 = rising ? liftOffPosition.z() : apexHeight;

@@ -176,6 +176,11 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
   plan.schedule = schedule_;
   plan.swings = swings_;
   plan.walking = command.walk;
+  for (int c = 0; c < kNumContacts; ++c) {
+    const Eigen::Vector3d& p = gaitState.contactPositions[c];
+    const gait::SwingTrajectory* swing = swings_.swingAt(c, t);
+    plan.supportHeight[c] = swing ? swing->touchDownPosition.z() : terrain_.height(p.x(), p.y());
+  }
   return true;
 }
 

@@ -32,6 +32,9 @@ struct Plan {
   gait::ContactSchedule schedule{gait::Gait{}, 0.0};
   gait::SwingPlanner swings{gait::SwingPlannerParameters{}, {}};
   bool walking = false;
+  /// Per contact point, the terrain height (world z) it stands on at t0, or, in a swing, the one
+  /// it lands on: what the state estimator measures stance points against.
+  std::array<double, kNumContacts> supportHeight{};
 };
 
 struct PlanSample {

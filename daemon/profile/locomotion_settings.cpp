@@ -34,6 +34,8 @@ locomotion::LocomotionSettings locomotionSettings(const Profile& p, const model:
   s.walkGait.toeOffLead = p.number("gait.toe_off_lead");
   s.swing.apexClearance = p.number("gait.swing_apex");
   s.swing.replanUntil = p.number("gait.replan_until");
+  s.swing.stepHeight = p.number("gait.step_height");
+  s.swing.stepLift = p.number("gait.step_lift");
   s.swing.minFeetDistance = p.number("gait.min_foot_distance");
   s.swing.foothold.feedbackGain = p.number("gait.foothold_gain");
   s.swing.foothold.nominalHeight = nominalHeight;

@@ -92,6 +92,8 @@ const std::vector<Key> kTable = {
   number("gait.toe_off_lead", "0", 0, 0.5, "s", "toe-off and heel-strike: a heel lifts and lands this much before its toe (0: together)"),
   number("gait.swing_apex", "0.08", 0.01, 0.3, "m", "swing-foot clearance at mid-swing, above the terrain"),
   number("gait.foothold_gain", "0.15", 0, 1, "", "k of the foothold rule hip + T/2 v_des + k (v - v_des)"),
+  number("gait.step_height", "0.03", 0, 1, "m", "a swing over terrain that rises or falls more than this is a step: the foot lifts before it moves and moves before it lands"),
+  number("gait.step_lift", "0.2", 0, 0.45, "", "stepping: fraction of the swing at each end spent lifting (lowering) without moving horizontally"),
   number("gait.replan_until", "0.7", 0, 1, "", "fraction of a swing after which its touch-down point is held"),
   number("gait.min_foot_distance", "0.12", 0, 1, "m", "closest the left and right contact points may come (swing planning and the MPC's collision constraint)"),
   number("gait.walk_start_delay", "0.3", 0, 2, "s", "walking from standing starts this much after the command: the weight shifts onto the first stance foot meanwhile"),

@@ -59,7 +59,9 @@ bool CanBus::open(const std::string& spec, std::string& error) {
               "SOCK_DGRAM), one struct can_frame per message";
       return false;
     }
-    fd_ = static_cast<int>(fd);
+    // A copy of its own: the bus closes what it opened, never the caller's descriptor.
+    fd_ = fcntl(static_cast<int>(fd), F_DUPFD_CLOEXEC, 0);
+    if (fd_ < 0) return failed("cannot duplicate the descriptor");
     emulated_ = true;
   } else {
     if (spec.empty() || spec.size() >= IFNAMSIZ) {
@@ -67,7 +69,7 @@ bool CanBus::open(const std::string& spec, std::string& error) {
               " characters) nor fd:N";
       return false;
     }
-    fd_ = socket(PF_CAN, SOCK_RAW, CAN_RAW);
+    fd_ = socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC, CAN_RAW);
     if (fd_ < 0) {
       const std::string hint = errno == EAFNOSUPPORT
                                    ? " (this kernel has no SocketCAN: load the can and can_raw "

@@ -1,6 +1,7 @@
 // One CAN bus, non-blocking: a raw SocketCAN socket bound to an interface ("can0", "vcan0"), or
 // an already open socket that carries struct can_frame with message boundaries kept ("fd:N",
-// e.g. one end of a socketpair(AF_UNIX, SOCK_SEQPACKET): an emulated bus, for tests and tools).
+// e.g. one end of a socketpair(AF_UNIX, SOCK_SEQPACKET): an emulated bus, for tests and tools;
+// the bus works on a duplicate, the caller's descriptor stays the caller's).
 // The same read/write/poll code serves both.
 #pragma once
 

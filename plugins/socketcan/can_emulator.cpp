@@ -28,7 +28,7 @@ void CanEmulator::reply(Motor& m) {
   r.velocity = m.velocity;
   r.torque = m.torque;
   packReply(hostId_, r, m.ranges, f);
-  send(fds_[static_cast<std::size_t>(m.bus)], &f, sizeof f, MSG_NOSIGNAL);
+  send(fds_[static_cast<std::size_t>(m.bus)], &f, sizeof f, MSG_NOSIGNAL | MSG_DONTWAIT);
 }
 
 int CanEmulator::pump(int timeoutMs) {
@@ -90,7 +90,7 @@ void CanEmulator::sendImu(const ImuSample& sample) {
   can_frame frames[3];
   packImu(imuBase_, sample, frames);
   for (const can_frame& f : frames)
-    send(fds_[static_cast<std::size_t>(imuBus_)], &f, sizeof f, MSG_NOSIGNAL);
+    send(fds_[static_cast<std::size_t>(imuBus_)], &f, sizeof f, MSG_NOSIGNAL | MSG_DONTWAIT);
 }
 
 }  // namespace ballast::socketcan

@@ -5,7 +5,8 @@
 // An emulated MIT motor answers each enable, disable and zero command with its state at once,
 // and keeps the last motion command for whoever moves it (a test's kinematic model, or a
 // simulation) to read; replyAll() then sends every commanded motor's state. Faults for tests:
-// a motor can be silenced, and then stops answering altogether.
+// a motor can be silenced, and then stops answering altogether. Like a device on a real bus, it
+// never blocks on a full bus: a frame nobody takes is dropped.
 #pragma once
 
 #include <linux/can.h>

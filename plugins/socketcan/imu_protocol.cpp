@@ -54,22 +54,23 @@ bool ImuAssembler::take(const can_frame& f, bool& completed) {
     if (n < 0.5) return true;  // not a rotation: keep the last one
     building_.orientation[3] = wxyz[0] / n;
     for (int k = 0; k < 3; ++k) building_.orientation[k] = wxyz[k + 1] / n;
-    return true;
+    haveOrientation_ = true;
+  } else {
+    const std::uint16_t counter = get16(f.data + 6);
+    for (int k = 0; k < 3; ++k) {
+      const auto v = static_cast<std::int16_t>(get16(f.data + 2 * k));
+      if (which == 1)
+        building_.angular_velocity[k] = fromInt16(v, kGyroFullScale);
+      else
+        building_.linear_acceleration[k] = fromInt16(v, kAccelFullScale);
+    }
+    if (which == 1) haveGyro_ = true, gyroCounter_ = counter;
+    else haveAccel_ = true, accelCounter_ = counter;
   }
-  const std::uint16_t counter = get16(f.data + 6);
-  for (int k = 0; k < 3; ++k) {
-    const auto v = static_cast<std::int16_t>(get16(f.data + 2 * k));
-    if (which == 1)
-      building_.angular_velocity[k] = fromInt16(v, kGyroFullScale);
-    else
-      building_.linear_acceleration[k] = fromInt16(v, kAccelFullScale);
-  }
-  if (which == 1) haveGyro_ = true, gyroCounter_ = counter;
-  else haveAccel_ = true, accelCounter_ = counter;
-  if (haveGyro_ && haveAccel_ && gyroCounter_ == accelCounter_) {
-    building_.counter = counter;
+  if (haveGyro_ && haveAccel_ && haveOrientation_ && gyroCounter_ == accelCounter_) {
+    building_.counter = gyroCounter_;
     latest_ = building_;
-    haveGyro_ = haveAccel_ = false;
+    haveGyro_ = haveAccel_ = haveOrientation_ = false;
     ++samples_;
     completed = true;
   }

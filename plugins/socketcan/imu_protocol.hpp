@@ -6,8 +6,9 @@
 //   id base + 1: angular velocity x, y, z (IMU frame), int16 over ±2000 °/s; uint16 counter
 //   id base + 2: specific force x, y, z (IMU frame), int16 over ±16 g; uint16 counter
 //
-// A sample is complete when the angular velocity and specific force with the same counter have
-// arrived; it takes the latest orientation. Resolution: 1.1e-3 rad/s, 4.8e-3 m/s², 3e-5.
+// A sample is complete when the angular velocity and specific force with the same counter, and
+// an orientation frame since the last sample, have arrived (an IMU that stops sending its
+// orientation stops completing samples: it never reports a stale attitude as new). Resolution: 1.1e-3 rad/s, 4.8e-3 m/s², 3e-5.
 #pragma once
 
 #include <linux/can.h>
@@ -45,7 +46,7 @@ class ImuAssembler {
  private:
   int base_;
   ImuSample building_, latest_;
-  bool haveGyro_ = false, haveAccel_ = false;
+  bool haveGyro_ = false, haveAccel_ = false, haveOrientation_ = false;
   std::uint16_t gyroCounter_ = 0, accelCounter_ = 0;
   std::uint64_t samples_ = 0;
 };

@@ -53,6 +53,8 @@ int packCommand(int id, const MitCommand& c, const MotorRanges& r, can_frame& f)
   f.data[5] = static_cast<std::uint8_t>(kd >> 4);
   f.data[6] = static_cast<std::uint8_t>(((kd & 0xF) << 4) | (t >> 8));
   f.data[7] = static_cast<std::uint8_t>(t & 0xFF);
+  MitSpecial special;
+  if (unpackSpecial(f, special)) f.data[7] = 0xFB;  // never a special command by accident
   return clamped;
 }
 

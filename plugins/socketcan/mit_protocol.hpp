@@ -13,6 +13,8 @@
 //
 // Position, velocity and torque are symmetric ranges [-r, r]; kp and kd are [0, r]. A value
 // outside its range is clamped before it is packed (the drivers' own conversion would wrap it).
+// A command whose fields are all at their top would pack to the bytes of a special command (a
+// zero command, even): its torque is then packed four steps lower.
 // Conversions are the drivers' own: truncation when packing, x·span/(2^bits − 1) + min when
 // unpacking, so a value packs to the code a real driver would read.
 //

@@ -1,5 +1,6 @@
 #include "socketcan_backend.hpp"
 
+#include <linux/can/error.h>
 #include <poll.h>
 
 #include <algorithm>
@@ -22,11 +23,19 @@ std::string motorName(const MotorEntry& m) {
   return m.joint + " (" + m.bus + " id " + std::to_string(m.id) + ")";
 }
 
+/// What a CAN error frame says, briefly.
+const char* errorClass(const can_frame& f) {
+  if (f.can_id & CAN_ERR_BUSOFF) return "bus-off";
+  if (f.can_id & CAN_ERR_ACK) return "no acknowledgement (nothing listening?)";
+  if (f.can_id & CAN_ERR_TX_TIMEOUT) return "transmit timeout";
+  if (f.can_id & CAN_ERR_CRTL) return "controller error (error passive or warning)";
+  return "error frame";
+}
+
 }  // namespace
 
 Status SocketcanBackend::fault(const char* message) {
   copyMessage(lastError_, message);
-  faulted_ = true;
   return Status::kFault;
 }
 
@@ -35,6 +44,7 @@ bool SocketcanBackend::configure(const backend::Config& config, backend::Error& 
     settings_ = parseSocketcanSettings(config.section_yaml ? config.section_yaml : "",
                                        config.section_origin ? config.section_origin : "");
     period_ = config.period;
+    checkBusLoad(settings_, period_);
     const std::vector<plugin::UrdfJoint> joints =
         plugin::urdfJoints(config.urdf_path ? config.urdf_path : "");
     // A motor for every movable joint, in URDF order; no motor for anything else.
@@ -46,15 +56,10 @@ bool SocketcanBackend::configure(const backend::Config& config, backend::Error& 
       if (it == settings_.motors.end())
         throw SettingsError(settings_.where("motors") + "joint " + j.name + " of " +
                             config.urdf_path + " has no motor (give motors." + j.name +
-                            ": {bus: ..., id: ...})");
+                            ": {bus: ..., id: ..., torque: ...})");
       Motor m;
       m.entry = *it;
-      if (m.entry.torqueFromUrdf) {
-        if (!(j.effort > 0.0))
-          throw SettingsError(settings_.where("motors." + j.name) +
-                              "the URDF gives no effort limit: give it a torque: range");
-        m.entry.ranges.torque = j.effort;
-      }
+      m.effort = j.effort > 0.0 ? j.effort : m.entry.ranges.torque;
       motors_.push_back(m);
     }
     for (const MotorEntry& m : settings_.motors)
@@ -74,6 +79,7 @@ bool SocketcanBackend::configure(const backend::Config& config, backend::Error& 
       if (!buses_[b].open(settings_.buses[b], why)) throw SettingsError(settings_.where("buses") + why);
       allEmulated = allEmulated && buses_[b].emulated();
     }
+    busState_.assign(buses_.size(), BusState{});
     byId_.assign(buses_.size(), {});
     for (auto& table : byId_) table.fill(-1);
     for (std::size_t i = 0; i < motors_.size(); ++i)
@@ -102,15 +108,19 @@ bool SocketcanBackend::configure(const backend::Config& config, backend::Error& 
 }
 
 double SocketcanBackend::clock() const {
-  return lockstep_ ? static_cast<double>(tick_) * period_ : secondsBetween(start_, monotonicNow());
+  if (lockstep_) return static_cast<double>(tick_) * period_;
+  return running_ ? secondsBetween(start_, monotonicNow()) : 0.0;
 }
 
 bool SocketcanBackend::send(int bus, const can_frame& frame) {
-  log_.record(bus, frame);
-  if (buses_[static_cast<std::size_t>(bus)].send(frame)) return true;
+  BusState& b = busState_[static_cast<std::size_t>(bus)];
+  if (buses_[static_cast<std::size_t>(bus)].send(frame)) {
+    log_.record(bus, frame);  // what went on the wire (candump sees no frame that was not sent)
+    return true;
+  }
   ++sendFailures_;
-  lastSendErrno_ = buses_[static_cast<std::size_t>(bus)].lastError();
-  lastSendBus_ = bus;
+  b.sendErrno = buses_[static_cast<std::size_t>(bus)].lastError();
+  b.failedThisTick = true;
   return false;
 }
 
@@ -122,25 +132,29 @@ bool SocketcanBackend::drain() {
     while (buses_[b].receive(f)) {
       any = true;
       log_.record(static_cast<int>(b), f);
-      if (f.can_id & CAN_ERR_FLAG) continue;  // controller errors show up as silent motors
-      const int id = replyMotor(f, settings_.host_id);
-      if (id >= 0) {
-        const int index = byId_[b][static_cast<std::size_t>(id)];
-        if (index < 0) continue;  // a motor this profile does not drive
-        Motor& m = motors_[static_cast<std::size_t>(index)];
-        MitReply r;
-        unpackReply(f, settings_.host_id, m.entry.ranges, r);
-        m.q = m.entry.offset + m.entry.direction * r.position;
-        m.dq = m.entry.direction * r.velocity;
-        m.tau = m.entry.direction * r.torque;
-        m.lastReply = t;
-        m.replied = true;
+      if (f.can_id & CAN_ERR_FLAG) {
+        busState_[b].error = errorClass(f);
         continue;
       }
       if (settings_.imu_enabled && static_cast<int>(b) == settings_.imuBusIndex) {
         bool completed = false;
-        if (imu_.take(f, completed) && completed) lastImu_ = t;
+        if (imu_.take(f, completed)) {
+          if (completed) lastImu_ = t;
+          continue;
+        }
       }
+      const int id = replyMotor(f, settings_.host_id);
+      if (id < 0) continue;
+      const int index = byId_[b][static_cast<std::size_t>(id)];
+      if (index < 0) continue;  // a motor this profile does not drive
+      Motor& m = motors_[static_cast<std::size_t>(index)];
+      MitReply r;
+      unpackReply(f, settings_.host_id, m.entry.ranges, r);
+      m.q = m.entry.offset + m.entry.direction * r.position;
+      m.dq = m.entry.direction * r.velocity;
+      m.tau = m.entry.direction * r.torque;
+      m.lastReply = t;
+      m.replied = true;
     }
   }
   return any;
@@ -149,8 +163,8 @@ bool SocketcanBackend::drain() {
 template <typename Done>
 bool SocketcanBackend::waitUntil(Done done, double timeout) {
   const timespec begin = monotonicNow();
-  pollfd fds[16];
-  const int n = static_cast<int>(std::min<std::size_t>(buses_.size(), 16));
+  pollfd fds[kMaxBuses];
+  const int n = static_cast<int>(buses_.size());
   for (int i = 0; i < n; ++i) fds[i] = pollfd{buses_[static_cast<std::size_t>(i)].fd(), POLLIN, 0};
   for (;;) {
     drain();
@@ -174,13 +188,39 @@ std::string SocketcanBackend::motorList(Missing missing) const {
   return list;
 }
 
-void SocketcanBackend::sendToAll(MitSpecial which) {
+std::string SocketcanBackend::busTrouble() const {
+  std::string what;
+  for (std::size_t b = 0; b < buses_.size(); ++b) {
+    const BusState& s = busState_[b];
+    if (s.error) what += "; bus " + settings_.buses[b] + " reported " + s.error;
+    if (s.sendErrno) what += "; sending on " + settings_.buses[b] + " failed: " + std::strerror(s.sendErrno);
+  }
+  return what;
+}
+
+void SocketcanBackend::sendToAll(MitSpecial which, bool onlySilent) {
   can_frame f;
   for (Motor& m : motors_) {
+    if (onlySilent && m.replied) continue;
     packSpecial(m.entry.id, which, f);
     m.replied = false;
     send(m.entry.busIndex, f);
   }
+}
+
+bool SocketcanBackend::sequence(MitSpecial which, double timeout) {
+  // Every motor must answer; the silent ones are asked again (a frame may have been lost or the
+  // transmit queue full) until the time is up.
+  auto allReplied = [this] {
+    return std::all_of(motors_.begin(), motors_.end(), [](const Motor& m) { return m.replied; });
+  };
+  sendToAll(which, false);
+  const timespec begin = monotonicNow();
+  while (!waitUntil(allReplied, std::min(0.02, timeout))) {
+    if (secondsBetween(begin, monotonicNow()) >= timeout) return false;
+    sendToAll(which, true);
+  }
+  return true;
 }
 
 bool SocketcanBackend::start(backend::Error& error) {
@@ -195,82 +235,73 @@ bool SocketcanBackend::start(backend::Error& error) {
       return false;
     }
   }
-  start_ = monotonicNow();
   tick_ = 0;
-  faulted_ = false;
+  running_ = false;
   lastImu_ = -1.0;
+  for (BusState& b : busState_) b = BusState{};
   for (Motor& m : motors_) m.lastReply = -1.0;
   can_frame f;
   for (CanBus& bus : buses_)  // what was on the buses before is not about this run
     while (bus.receive(f)) {
     }
-  auto allReplied = [this] {
-    return std::all_of(motors_.begin(), motors_.end(), [](const Motor& m) { return m.replied; });
-  };
   auto silent = [](const Motor& m) { return !m.replied; };
-  sendToAll(MitSpecial::kEnable);
-  if (!waitUntil(allReplied, settings_.enable_timeout)) {
-    copyMessage(error, ("socketcan: no answer to the enable command within " +
-                        plugin::SectionCursor::formatNumber(settings_.enable_timeout) + " s from " +
-                        motorList(silent) + ": check power, wiring, ids and bus bit rate")
-                           .c_str());
-    sendToAll(MitSpecial::kDisable);
+  auto failWith = [&](const std::string& message) {
+    copyMessage(error, message.c_str());
+    sequence(MitSpecial::kDisable, 0.05);
     log_.close();
     return false;
-  }
-  if (settings_.zero_on_start) {
-    sendToAll(MitSpecial::kZero);
-    if (!waitUntil(allReplied, settings_.enable_timeout)) {
-      copyMessage(error, ("socketcan: no answer to the zero command from " + motorList(silent)).c_str());
-      sendToAll(MitSpecial::kDisable);
-      log_.close();
-      return false;
-    }
-  }
+  };
+  if (!sequence(MitSpecial::kEnable, settings_.enable_timeout))
+    return failWith("socketcan: no answer to the enable command within " +
+                    plugin::SectionCursor::formatNumber(settings_.enable_timeout) + " s from " +
+                    motorList(silent) + ": check power, wiring, ids and bus bit rate" + busTrouble());
+  if (settings_.zero_on_start && !sequence(MitSpecial::kZero, settings_.enable_timeout))
+    return failWith("socketcan: no answer to the zero command from " + motorList(silent) + busTrouble());
   if (settings_.imu_enabled &&
-      !waitUntil([this] { return lastImu_ >= 0.0; }, settings_.enable_timeout)) {
-    copyMessage(error, ("socketcan: no sample from the IMU (" +
-                        settings_.buses[static_cast<std::size_t>(settings_.imuBusIndex)] + " ids " +
-                        std::to_string(settings_.imu_id) + ".." + std::to_string(settings_.imu_id + 2) +
-                        ") within " + plugin::SectionCursor::formatNumber(settings_.enable_timeout) + " s")
-                           .c_str());
-    sendToAll(MitSpecial::kDisable);
-    log_.close();
-    return false;
-  }
-  // The replies and the IMU sample came at time 0 of the run.
-  for (Motor& m : motors_) m.lastReply = 0.0;
-  if (settings_.imu_enabled) lastImu_ = 0.0;
-  start_ = monotonicNow();
-  pacer_.start(period_);
+      !waitUntil([this] { return lastImu_ >= 0.0; }, settings_.enable_timeout))
+    return failWith("socketcan: no sample from the IMU (" +
+                    settings_.buses[static_cast<std::size_t>(settings_.imuBusIndex)] + " ids " +
+                    std::to_string(settings_.imu_id) + ".." + std::to_string(settings_.imu_id + 2) +
+                    ") within " + plugin::SectionCursor::formatNumber(settings_.enable_timeout) +
+                    " s" + busTrouble());
   started_ = true;
   copyMessage(lastError_, "");
   copyMessage(error, "");
   return true;
 }
 
+void SocketcanBackend::beginRun() {
+  // The run's clock starts at the first tick, not at start(): the daemon builds its planner and
+  // loop in between, and an MIT motor answers only when it is commanded. The state the enable
+  // sequence brought back is the first tick's.
+  start_ = monotonicNow();
+  pacer_.start(period_);
+  running_ = true;
+  for (Motor& m : motors_) m.lastReply = 0.0;
+  if (settings_.imu_enabled) lastImu_ = 0.0;
+}
+
 Status SocketcanBackend::read(backend::Sensors& s) {
   if (!started_) return fault("socketcan: read() on a backend that is not started");
-  if (faulted_) return Status::kFault;
+  if (!running_) beginRun();
   drain();
   const double t = clock();
   char message[backend::kMessageLength];
   const double timeout = settings_.reply_timeout;
   auto late = [&](const Motor& m) { return t - m.lastReply > timeout; };
+  // Faults are reported for as long as they last; the daemon damps at the first and keeps
+  // writing (damping commands still go out).
   if (std::any_of(motors_.begin(), motors_.end(), late)) {
     std::snprintf(message, sizeof message,
-                  "socketcan: no reply for more than %.1f ms (reply_timeout) from %s%s%s%s",
-                  timeout * 1e3, motorList(late).c_str(),
-                  lastSendErrno_ ? "; the last failed send on " : "",
-                  lastSendErrno_ ? settings_.buses[static_cast<std::size_t>(lastSendBus_)].c_str() : "",
-                  lastSendErrno_ ? (std::string(": ") + std::strerror(lastSendErrno_)).c_str() : "");
+                  "socketcan: no reply for more than %.1f ms (reply_timeout) from %s%s",
+                  timeout * 1e3, motorList(late).c_str(), busTrouble().c_str());
     return fault(message);
   }
   if (settings_.imu_enabled && t - lastImu_ > settings_.imu_timeout) {
     std::snprintf(message, sizeof message,
-                  "socketcan: the IMU (%s id %d) sent no sample for more than %.1f ms (imu.timeout)",
+                  "socketcan: the IMU (%s id %d) sent no sample for more than %.1f ms (imu.timeout)%s",
                   settings_.buses[static_cast<std::size_t>(settings_.imuBusIndex)].c_str(),
-                  settings_.imu_id, settings_.imu_timeout * 1e3);
+                  settings_.imu_id, settings_.imu_timeout * 1e3, busTrouble().c_str());
     return fault(message);
   }
   // A tick without a new frame (the host was late reading, a frame was lost) reuses the last
@@ -298,7 +329,7 @@ Status SocketcanBackend::read(backend::Sensors& s) {
 
 Status SocketcanBackend::write(const backend::Commands& commands) {
   if (!started_) return fault("socketcan: write() on a backend that is not started");
-  if (faulted_) return Status::kFault;
+  if (!running_) beginRun();
   if (commands.num_joints != static_cast<int>(motors_.size())) {
     char message[160];
     std::snprintf(message, sizeof message, "socketcan: commands for %d joints, the robot has %zu",
@@ -307,36 +338,57 @@ Status SocketcanBackend::write(const backend::Commands& commands) {
   }
   can_frame f;
   imuSamplesAtWrite_ = imu_.samples();
-  for (std::size_t j = 0; j < motors_.size(); ++j) {
-    const backend::JointCommand& c = commands.joint[j];
-    if (!std::isfinite(c.tau_ff) || !std::isfinite(c.q_des) || !std::isfinite(c.dq_des) ||
-        !std::isfinite(c.kp) || !std::isfinite(c.kd)) {
-      char message[200];
-      std::snprintf(message, sizeof message,
-                    "socketcan: the command for joint %s is not finite; nothing sent",
-                    motors_[j].entry.joint.c_str());
-      return fault(message);
-    }
-  }
+  for (BusState& b : busState_) b.failedThisTick = false;
+  const char* notFinite = nullptr;
   for (std::size_t j = 0; j < motors_.size(); ++j) {
     Motor& m = motors_[j];
     const backend::JointCommand& c = commands.joint[j];
     MitCommand mc;
-    mc.position = m.entry.direction * (c.q_des - m.entry.offset);
-    mc.velocity = m.entry.direction * c.dq_des;
-    mc.torque = m.entry.direction * c.tau_ff;
-    mc.kp = c.kp;
-    mc.kd = c.kd;
+    if (std::isfinite(c.tau_ff) && std::isfinite(c.q_des) && std::isfinite(c.dq_des) &&
+        std::isfinite(c.kp) && std::isfinite(c.kd)) {
+      mc.position = m.entry.direction * (c.q_des - m.entry.offset);
+      mc.velocity = m.entry.direction * c.dq_des;
+      // The joint's own limit (URDF effort) as well as the field's span.
+      const double tau = std::clamp(c.tau_ff, -m.effort, m.effort);
+      clamped_ += tau != c.tau_ff;
+      mc.torque = m.entry.direction * tau;
+      mc.kp = c.kp;
+      mc.kd = c.kd;
+    } else {
+      notFinite = m.entry.joint.c_str();  // limp: nothing but zeros for this motor
+    }
     clamped_ += static_cast<std::uint64_t>(packCommand(m.entry.id, mc, m.entry.ranges, f));
     m.replied = false;
     send(m.entry.busIndex, f);
+  }
+  // A bus that could not take a tick's frames for longer than reply_timeout is a fault (the
+  // motors' silence will say so too, but this says why).
+  for (std::size_t b = 0; b < buses_.size(); ++b) {
+    BusState& s = busState_[b];
+    s.failingTicks = s.failedThisTick ? s.failingTicks + 1 : 0;
+    if (!s.failedThisTick) s.sendErrno = 0;
+    if (s.failingTicks * period_ > settings_.reply_timeout) {
+      char message[backend::kMessageLength];
+      std::snprintf(message, sizeof message,
+                    "socketcan: bus %s has refused frames for %d ticks: %s (is it up? `ip -details "
+                    "link show %s`)",
+                    settings_.buses[b].c_str(), s.failingTicks, std::strerror(s.sendErrno),
+                    settings_.buses[b].c_str());
+      return fault(message);
+    }
+  }
+  if (notFinite) {
+    char message[200];
+    std::snprintf(message, sizeof message,
+                  "socketcan: the command for joint %s is not finite; that motor got zeros", notFinite);
+    return fault(message);
   }
   return Status::kOk;
 }
 
 Status SocketcanBackend::advance() {
   if (!started_) return fault("socketcan: advance() on a backend that is not started");
-  if (faulted_) return Status::kFault;
+  if (!running_) beginRun();
   if (lockstep_) {
     auto done = [this] {
       return std::all_of(motors_.begin(), motors_.end(), [](const Motor& m) { return m.replied; }) &&
@@ -371,13 +423,11 @@ Status SocketcanBackend::advance() {
 }
 
 void SocketcanBackend::stop() {
-  if (started_ && settings_.disable_on_stop) {
-    sendToAll(MitSpecial::kDisable);
-    waitUntil([this] {
-      return std::all_of(motors_.begin(), motors_.end(), [](const Motor& m) { return m.replied; });
-    }, 0.05);
-  }
+  // The daemon has damped the motors for a while before it stops the backend; leaving motor
+  // mode is the last step, asked again of any motor that does not answer.
+  if (started_ && settings_.disable_on_stop) sequence(MitSpecial::kDisable, 0.1);
   started_ = false;
+  running_ = false;
   log_.close();
 }
 

@@ -4,16 +4,20 @@
 //   configure  parse the section (socketcan_settings.hpp), read the URDF's movable joints (each
 //              needs a motor entry; torque ranges default to its effort limit), open the buses
 //   start      enable sequence: every motor is put in motor mode and must answer within
-//              enable_timeout (a list of the silent ones otherwise); zero_on_start then zeroes
-//              them; the IMU must have sent a sample
+//              enable_timeout (asked again while silent; a list of the silent ones otherwise);
+//              zero_on_start then zeroes them; the IMU must have sent a sample. The run's clock
+//              and timeouts start at the first tick
 //   read       drain every bus without blocking: replies update their motor, IMU frames build
 //              samples; a motor or IMU silent for longer than its timeout is a fault naming it
 //              (the daemon damps); a tick without a new frame reuses the last ones, each younger
 //              than its timeout (one late or lost frame is not a fall)
 //   write      one command frame per motor, each value clamped to the motor's range (counted)
+//              and the torque to the joint's URDF effort too; always sent, faulted or not (the
+//              daemon's damping must reach the motors); a bus refusing frames for longer than
+//              reply_timeout is a fault
 //   advance    real time: sleep to the next tick (an overrun is reported); lockstep, possible
 //              only on emulated buses (fd:N): wait for every motor's reply and the IMU's sample
-//   stop       disable every motor (disable_on_stop); idempotent
+//   stop       disable every motor, asking the silent ones again (disable_on_stop); idempotent
 //
 // Joints: q = offset + direction · p (p the motor's position), velocity and torque likewise.
 // Everything per tick works on arrays sized at configure: no allocation, no lock; frames go to
@@ -61,11 +65,24 @@ class SocketcanBackend final : public backend::Backend {
  private:
   struct Motor {
     MotorEntry entry;
+    double effort = 0.0;                  ///< the joint's torque limit (URDF), N·m
     double q = 0.0, dq = 0.0, tau = 0.0;  ///< joint side, from the last reply
     double lastReply = -1.0;              ///< backend clock, s; < 0: never
-    bool replied = false;                 ///< since the last write (lockstep)
+    bool replied = false;                 ///< since the last command
+  };
+  struct BusState {
+    const char* error = nullptr;  ///< the last error frame's class (static text)
+    int sendErrno = 0;            ///< why the last send failed
+    bool failedThisTick = false;
+    int failingTicks = 0;         ///< consecutive ticks with a failed send
   };
   backend::Status fault(const char* message);
+  /// The clock and the pacer start at the first tick (see read()).
+  void beginRun();
+  /// Sends `which` to every motor and waits for every answer, asking the silent ones again.
+  bool sequence(MitSpecial which, double timeout);
+  /// "; bus can0 reported bus-off" and the like, for fault messages.
+  std::string busTrouble() const;
   /// Reads every waiting frame on every bus; true if any arrived.
   bool drain();
   /// Sends a frame on a bus (logged); false if it could not be queued.
@@ -77,12 +94,13 @@ class SocketcanBackend final : public backend::Backend {
   template <typename Missing>
   std::string motorList(Missing missing) const;
   double clock() const;  ///< backend time, s
-  void sendToAll(MitSpecial which);
+  void sendToAll(MitSpecial which, bool onlySilent);
 
   SocketcanSettings settings_;
   backend::Capabilities caps_;
   backend::Error lastError_;
   std::vector<CanBus> buses_;
+  std::vector<BusState> busState_;
   std::vector<Motor> motors_;                         // in joint (URDF) order
   std::vector<std::array<std::int16_t, 256>> byId_;  // per bus: motor index by CAN id, -1 none
   ImuAssembler imu_;
@@ -91,11 +109,10 @@ class SocketcanBackend final : public backend::Backend {
   CandumpLog log_;
   double period_ = 0.001;
   bool lockstep_ = false;
-  bool configured_ = false, started_ = false, faulted_ = false;
+  bool configured_ = false, started_ = false, running_ = false;
   std::uint64_t tick_ = 0, sequence_ = 0, clamped_ = 0, sendFailures_ = 0;
   timespec start_{};
   plugin::TickPacer pacer_;
-  int lastSendErrno_ = 0, lastSendBus_ = 0;
 };
 
 }  // namespace ballast::socketcan

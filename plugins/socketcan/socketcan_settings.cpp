@@ -1,6 +1,7 @@
 #include "socketcan_settings.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <set>
 
@@ -63,8 +64,13 @@ void parseMotors(S& s, const YAML::Node& node, const plugin::SectionCursor& c) {
 const std::vector<SettingKey> kKeys = {
   // name, type, default, min, max, choices, group, doc, field
   {"buses", K::kStrings, "[can0]", kNone, kNone, "", "Buses",
-   "CAN interfaces (\"can0\"), or fd:N for an emulated bus (an open SOCK_SEQPACKET socket carrying struct can_frame)",
+   "CAN interfaces (\"can0\"), or fd:N for an emulated bus (an open SOCK_SEQPACKET socket carrying struct can_frame); at most 16",
    &S::buses},
+  {"bitrate", K::kNumber, "1000000", 1e4, 1e6, "", "Buses",
+   "bits per second of every bus (classic CAN)", &S::bitrate},
+  {"max_bus_load", K::kNumber, "0.8", 0.1, 1, "", "Buses",
+   "largest share of a bus's time one tick's frames may take (configure refuses more; emulated buses have no limit)",
+   &S::max_bus_load},
   {"host_id", K::kInteger, "0", 0, 2047, "", "Buses", "CAN id the motors reply to", &S::host_id},
   {"reply_timeout", K::kNumber, "0.003", 0.0005, 1, "", "Buses",
    "a motor silent this long (s) is a fault (damp)", &S::reply_timeout},
@@ -92,7 +98,8 @@ const std::vector<SettingKey> kKeys = {
   {"ranges.velocity", K::kNumber, "45", 0.1, 1000, "", "Motor ranges (defaults of every motor's)",
    "±rad/s of the velocity field", &S::ranges_velocity},
   {"ranges.torque", K::kNumber, "0", 0, 10000, "", "Motor ranges (defaults of every motor's)",
-   "±N·m of the torque field (0: the joint's URDF effort limit)", &S::ranges_torque},
+   "±N·m of the torque field: the motor firmware's T_MAX (0: each motor must give its own)",
+   &S::ranges_torque},
   {"ranges.kp", K::kNumber, "500", 0.1, 1e5, "", "Motor ranges (defaults of every motor's)",
    "N·m/rad the kp field spans from 0", &S::ranges_kp},
   {"ranges.kd", K::kNumber, "5", 0.01, 1e4, "", "Motor ranges (defaults of every motor's)",
@@ -118,6 +125,8 @@ std::string busList(const S& s) {
 
 void checkAcrossKeys(S& s) {
   if (s.buses.empty()) throw SettingsError(s.where("buses") + "needs at least one bus");
+  if (static_cast<int>(s.buses.size()) > kMaxBuses)
+    throw SettingsError(s.where("buses") + "at most " + std::to_string(kMaxBuses) + " buses");
   for (std::size_t i = 0; i < s.buses.size(); ++i)
     for (std::size_t j = 0; j < i; ++j)
       if (s.buses[i] == s.buses[j])
@@ -125,10 +134,15 @@ void checkAcrossKeys(S& s) {
   s.imuBusIndex = s.imu_bus.empty() ? 0 : busIndex(s, s.imu_bus);
   if (s.imuBusIndex < 0)
     throw SettingsError(s.where("imu.bus") + s.imu_bus + " is not one of buses (" + busList(s) + ")");
+  if (s.imu_enabled && s.host_id >= s.imu_id && s.host_id <= s.imu_id + 2)
+    throw SettingsError(s.where("host_id") + std::to_string(s.host_id) + " is one of the IMU's ids (" +
+                        std::to_string(s.imu_id) + ".." + std::to_string(s.imu_id + 2) + ")");
   std::set<std::pair<int, int>> used;  // (bus, id)
   std::set<std::string> joints;
   for (MotorEntry& m : s.motors) {
     const std::string key = "motors." + m.joint;
+    if (!joints.insert(m.joint).second)
+      throw SettingsError(s.where(key) + "given twice");
     m.busIndex = busIndex(s, m.bus);
     if (m.busIndex < 0)
       throw SettingsError(s.where(key + ".bus") + m.bus + " is not one of buses (" + busList(s) + ")");
@@ -143,10 +157,10 @@ void checkAcrossKeys(S& s) {
     MotorRanges& r = m.ranges;
     if (std::isnan(r.position)) r.position = s.ranges_position;
     if (std::isnan(r.velocity)) r.velocity = s.ranges_velocity;
-    if (std::isnan(r.torque)) {
-      r.torque = s.ranges_torque;
-      m.torqueFromUrdf = s.ranges_torque == 0.0;
-    }
+    if (std::isnan(r.torque)) r.torque = s.ranges_torque;
+    if (!(r.torque > 0.0))
+      throw SettingsError(s.where(key) + "needs torque: the span of its torque field, the "
+                          "firmware's T_MAX in N·m (or give ranges.torque for every motor)");
     if (std::isnan(r.kp)) r.kp = s.ranges_kp;
     if (std::isnan(r.kd)) r.kd = s.ranges_kd;
   }
@@ -163,5 +177,28 @@ SocketcanSettings parseSocketcanSettings(const std::string& yaml, const std::str
 }
 
 std::string socketcanSettingsReference() { return plugin::sectionReference(kKeys); }
+
+void checkBusLoad(const SocketcanSettings& s, double period) {
+  // Classic CAN, 11-bit ids, without stuffing: 47 bits + 8 per data byte (with the interframe
+  // space).
+  constexpr double kCommandBits = 47 + 8 * 8, kReplyBits = 47 + 8 * 6, kImuBits = 3 * (47 + 8 * 8);
+  for (std::size_t b = 0; b < s.buses.size(); ++b) {
+    if (s.buses[b].rfind("fd:", 0) == 0) continue;  // an emulated bus has no wire to share
+    int motors = 0;
+    for (const MotorEntry& m : s.motors) motors += m.busIndex == static_cast<int>(b);
+    const bool imu = s.imu_enabled && s.imuBusIndex == static_cast<int>(b);
+    const double bits = motors * (kCommandBits + kReplyBits) + (imu ? kImuBits : 0.0);
+    const double load = bits / (s.bitrate * period);
+    if (load > s.max_bus_load) {
+      char text[256];
+      std::snprintf(text, sizeof text,
+                    "bus %s: %d motors%s need %.0f bits a tick, %.0f %% of the bus at %.0f bit/s "
+                    "and %.0f Hz (max_bus_load %.0f %%): spread the motors over more buses",
+                    s.buses[b].c_str(), motors, imu ? " and the IMU" : "", bits, 100 * load,
+                    s.bitrate, 1.0 / period, 100 * s.max_bus_load);
+      throw SettingsError(s.where("buses") + text);
+    }
+  }
+}
 
 }  // namespace ballast::socketcan

@@ -16,7 +16,9 @@
 //
 // Keys (name, type, default, bounds or choices, meaning):
 //   Buses
-//   buses                         strings [can0]                        CAN interfaces ("can0"), or fd:N for an emulated bus (an open SOCK_SEQPACKET socket carrying struct can_frame)
+//   buses                         strings [can0]                        CAN interfaces ("can0"), or fd:N for an emulated bus (an open SOCK_SEQPACKET socket carrying struct can_frame); at most 16
+//   bitrate                       number  1000000        [10000, 1e+06] bits per second of every bus (classic CAN)
+//   max_bus_load                  number  0.8            [0.1, 1]       largest share of a bus's time one tick's frames may take (configure refuses more; emulated buses have no limit)
 //   host_id                       integer 0              [0, 2047]      CAN id the motors reply to
 //   reply_timeout                 number  0.003          [0.0005, 1]    a motor silent this long (s) is a fault (damp)
 //   enable_timeout                number  0.5            [0.01, 10]     start(): how long (s) every motor has to answer the enable command
@@ -34,7 +36,7 @@
 //   Motor ranges (defaults of every motor's)
 //   ranges.position               number  12.5           [0.1, 1000]    ±rad the MIT position field spans
 //   ranges.velocity               number  45             [0.1, 1000]    ±rad/s of the velocity field
-//   ranges.torque                 number  0              [0, 10000]     ±N·m of the torque field (0: the joint's URDF effort limit)
+//   ranges.torque                 number  0              [0, 10000]     ±N·m of the torque field: the motor firmware's T_MAX (0: each motor must give its own)
 //   ranges.kp                     number  500            [0.1, 100000]  N·m/rad the kp field spans from 0
 //   ranges.kd                     number  5              [0.01, 10000]  N·m·s/rad the kd field spans from 0
 //
@@ -42,7 +44,13 @@
 //   motors                        map     {}                            URDF joint -> {bus, id, position, velocity, torque, kp, kd, direction (1 or -1), offset (rad)}; every movable joint needs one
 //
 // A motor's joint angle is q = offset + direction · p, with p the motor's position; velocity and
-// torque follow the direction. Commands are clamped to each motor's ranges before packing.
+// torque follow the direction. The ranges must be the motor firmware's own (P_MAX, V_MAX,
+// T_MAX, KP_MAX, KD_MAX): a wrong span scales every command and reading by its ratio. Commands
+// are clamped to them before packing, and the torque to the joint's URDF effort limit too.
+//
+// Bus time: a tick sends every motor an 8-byte command and gets a 6-byte reply (111 + 95 bits
+// on classic CAN, without bit stuffing), and the IMU's bus carries its three 8-byte frames; at
+// 1 Mbit/s and 1 kHz that is at most 3 motors on a bus at 80 % load (4 without the IMU).
 //
 // test/integration/socketcan/settings_test.cpp checks that this comment lists every key.
 #pragma once
@@ -64,13 +72,15 @@ struct MotorEntry {
   int busIndex = 0;  ///< into SocketcanSettings::buses
   int id = 0;
   MotorRanges ranges;
-  bool torqueFromUrdf = false;  ///< ranges.torque is 0: the backend sets the URDF effort limit
   double direction = 1.0;
   double offset = 0.0;
 };
 
+inline constexpr int kMaxBuses = 16;
+
 struct SocketcanSettings : plugin::SectionLocations {
   std::vector<std::string> buses;
+  double bitrate, max_bus_load;
   int host_id;
   double reply_timeout, enable_timeout, lockstep_timeout;
   bool zero_on_start, disable_on_stop;
@@ -93,5 +103,9 @@ const std::vector<SettingKey>& socketcanSettingKeys();
 SocketcanSettings parseSocketcanSettings(const std::string& yaml, const std::string& origin);
 
 std::string socketcanSettingsReference();
+
+/// Refuses a section whose per-tick frames would take more than max_bus_load of a bus's time at
+/// this control period (SettingsError naming the bus and its motors).
+void checkBusLoad(const SocketcanSettings& settings, double period);
 
 }  // namespace ballast::socketcan

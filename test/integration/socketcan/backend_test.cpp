@@ -2,6 +2,7 @@
 // one, arms on the other): the enable and disable sequences, commands and replies through the
 // MIT protocol, clamping, silent motors and IMU faults, candump logs; and the same round trip on
 // vcan0 where the kernel has SocketCAN.
+#include <fcntl.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -128,12 +129,12 @@ TEST(SocketcanBackend, CommandsAndStatesCrossTheBusWithinTheirResolution) {
     const MitCommand& k = e.motor(knee).command;  // the motor's side: direction −1, offset 0.1
     EXPECT_NEAR(k.position, -(0.9 - 0.1), 25.0 / 65535);
     EXPECT_NEAR(k.velocity, -0.5, 90.0 / 4095);
-    EXPECT_NEAR(k.torque, -30.0, 500.0 / 4095);  // URDF effort 250: ±250
+    EXPECT_NEAR(k.torque, -30.0, 1000.0 / 4095);  // span ±500 (twice the URDF effort)
     EXPECT_NEAR(k.kp, 120.0, 500.0 / 4095);
     EXPECT_NEAR(k.kd, 3.0, 10.0 / 4095);
     const MitCommand& w = e.motor(elbow).command;
     EXPECT_NEAR(w.position, -0.4, 25.0 / 65535);
-    EXPECT_NEAR(w.torque, -12.0, 120.0 / 4095);  // effort 60
+    EXPECT_NEAR(w.torque, -12.0, 240.0 / 4095);  // span ±120
     // And back: the motors' positions as the joints read them.
     e.motor(knee).position = -0.5;
     e.motor(elbow).position = 0.25;
@@ -181,14 +182,14 @@ TEST(SocketcanBackend, CommandsBeyondAMotorsRangesAreClampedAndCounted) {
   Rig rig(true);
   backend::Error error;
   ASSERT_TRUE(rig.configureAndStart(error)) << error.message;
-  const int wrist = rig.robot->motorOf("left_wrist_yaw");  // effort 15 N·m
+  const int wrist = rig.robot->motorOf("left_wrist_yaw");  // effort 15 N·m, span ±30
   backend::Commands c = rig.hold();
   c.joint[wrist].tau_ff = 40.0;
   c.joint[wrist].kd = 50.0;  // ranges.kd is 10
   ASSERT_EQ(rig.ticks(1, c), Status::kOk);
   EXPECT_EQ(rig.can.clampedValues(), 2u);
   rig.robot->with([&](CanEmulator& e) {
-    EXPECT_DOUBLE_EQ(e.motor(wrist).command.torque, 15.0);
+    EXPECT_NEAR(e.motor(wrist).command.torque, 15.0, 60.0 / 4095);  // the URDF effort
     EXPECT_DOUBLE_EQ(e.motor(wrist).command.kd, 10.0);
   });
 }
@@ -213,6 +214,66 @@ TEST(SocketcanBackend, ASilentMotorIsAFaultThatNamesIt) {
   EXPECT_NE(message.find("reply_timeout"), std::string::npos) << message;
   // Faulted stays faulted.
   EXPECT_EQ(rig.can.read(rig.sensors), Status::kFault);
+}
+
+TEST(SocketcanBackend, AfterAFaultTheDaemonsDampingStillReachesTheMotors) {
+  Rig rig(/*lockstep=*/false, "reply_timeout: 0.05\n");
+  backend::Error error;
+  ASSERT_TRUE(rig.configureAndStart(error)) << error.message;
+  ASSERT_EQ(rig.ticks(10, rig.hold()), Status::kOk) << rig.can.lastError().message;
+  rig.robot->with([&](CanEmulator& e) { e.motor(rig.robot->motorOf("left_knee")).silent = true; });
+  Status s = Status::kOk;
+  for (int k = 0; k < 500 && s == Status::kOk; ++k) s = rig.ticks(1, rig.hold());
+  ASSERT_EQ(s, Status::kFault);
+  // The daemon damps: kd only, no stiffness, no torque. The other motors must get it.
+  backend::Commands damp;
+  damp.num_joints = static_cast<int>(rig.map.joints.size());
+  for (int j = 0; j < damp.num_joints; ++j) damp.joint[j].kd = 3.0;
+  EXPECT_EQ(rig.can.read(rig.sensors), Status::kFault);  // still silent: still reported
+  EXPECT_EQ(rig.can.write(damp), Status::kOk);
+  rig.can.advance();
+  for (int tries = 0; tries < 200; ++tries) {
+    bool damped = true;
+    rig.robot->with([&](CanEmulator& e) {
+      for (const auto& m : e.motors())
+        if (!m.silent) damped = damped && m.command.kp == 0.0 && std::abs(m.command.kd - 3.0) < 0.01;
+    });
+    if (damped) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  }
+  rig.robot->with([&](CanEmulator& e) {
+    for (const auto& m : e.motors()) {
+      if (m.silent) continue;
+      EXPECT_EQ(m.command.kp, 0.0) << m.id;
+      EXPECT_NEAR(m.command.kd, 3.0, 10.0 / 4095) << m.id;
+      EXPECT_NEAR(m.command.torque, 0.0, 2 * m.ranges.torque / 4095) << m.id;  // one step
+    }
+  });
+}
+
+TEST(SocketcanBackend, TheRunsClockStartsAtTheFirstTickNotAtStart) {
+  // ballastd builds its planner and loop between start() and the first tick; MIT motors answer
+  // only when commanded: the first read must not find them silent.
+  Rig rig(/*lockstep=*/false, "reply_timeout: 0.003\n");
+  backend::Error error;
+  ASSERT_TRUE(rig.configureAndStart(error)) << error.message;
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_EQ(rig.can.read(rig.sensors), Status::kOk) << rig.can.lastError().message;
+  EXPECT_LT(rig.sensors.time, 0.003);
+}
+
+TEST(SocketcanBackend, AnEmulatedBusIsADuplicateTheCallerKeeps) {
+  int sv[2];
+  ASSERT_EQ(socketpair(AF_UNIX, SOCK_SEQPACKET, 0, sv), 0);
+  {
+    CanBus bus;
+    std::string error;
+    ASSERT_TRUE(bus.open("fd:" + std::to_string(sv[0]), error)) << error;
+    EXPECT_NE(bus.fd(), sv[0]);
+  }
+  EXPECT_EQ(fcntl(sv[0], F_GETFD), 0);  // still open, still ours
+  close(sv[0]);
+  close(sv[1]);
 }
 
 TEST(SocketcanBackend, LockstepWaitsForEveryReplyAndNamesTheMissingOnes) {

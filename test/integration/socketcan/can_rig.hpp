@@ -44,18 +44,24 @@ struct EmulatedBuses {
   }
   ~EmulatedBuses() {
     for (int fd : emulator) close(fd);
-    // The backend's ends belong to the backend (it closes them), unless it never opened them.
+    for (int fd : backend) close(fd);  // the backend works on duplicates
   }
   std::string spec(int i) const { return "fd:" + std::to_string(backend[static_cast<std::size_t>(i)]); }
   std::vector<int> backend, emulator;
 };
 
-/// Which bus and id each joint's motor has: legs (the first 12) on bus 0, the rest on bus 1.
+/// Which bus and id each joint's motor has: legs (the first 12) on bus 0, the rest on bus 1;
+/// and its torque span (the emulated firmware's T_MAX): twice the joint's URDF effort.
 struct MotorMap {
   std::map<std::string, std::pair<int, int>> at;  // joint -> (bus, id)
+  std::map<std::string, double> torqueSpan;
   std::vector<std::string> joints;
   MotorMap() {
-    joints = humanoidJoints();
+    for (const auto& j : plugin::urdfJoints(humanoidUrdf()))
+      if (j.movable) {
+        joints.push_back(j.name);
+        torqueSpan[j.name] = 2.0 * j.effort;
+      }
     int ids[2] = {0, 0};
     for (std::size_t j = 0; j < joints.size(); ++j) {
       const int bus = j < 12 ? 0 : 1;
@@ -72,7 +78,8 @@ inline std::string sectionFor(const EmulatedBuses& buses, const MotorMap& map,
   std::string y = "buses: [" + buses.spec(0) + ", " + buses.spec(1) + "]\nranges: {kd: 10}\nmotors:\n";
   for (const auto& j : map.joints) {
     const auto [bus, id] = map.at.at(j);
-    y += "  " + j + ": {bus: " + buses.spec(bus) + ", id: " + std::to_string(id);
+    y += "  " + j + ": {bus: " + buses.spec(bus) + ", id: " + std::to_string(id) +
+         ", torque: " + std::to_string(map.torqueSpan.at(j));
     const auto o = overrides.find(j);
     if (o != overrides.end()) y += ", " + o->second;
     y += "}\n";
@@ -80,14 +87,13 @@ inline std::string sectionFor(const EmulatedBuses& buses, const MotorMap& map,
   return y + extra;
 }
 
-/// The emulator with the humanoid's motors (their ranges as the backend's: URDF effort, kd 10).
+/// The emulator with the humanoid's motors (their ranges as the backend's section gives them).
 inline void addHumanoidMotors(CanEmulator& emu, const MotorMap& map) {
-  for (const auto& j : plugin::urdfJoints(humanoidUrdf())) {
-    if (!j.movable) continue;
+  for (const auto& joint : map.joints) {
     MotorRanges r;
-    r.torque = j.effort;
+    r.torque = map.torqueSpan.at(joint);
     r.kd = 10;
-    const auto [bus, id] = map.at.at(j.name);
+    const auto [bus, id] = map.at.at(joint);
     emu.addMotor(bus, id, r);
   }
 }
@@ -129,8 +135,8 @@ class KinematicRobot {
     ImuSample imu;
     imu.linear_acceleration[2] = 9.81;
     while (!done_) {
-      const int frames = emu_.pump(1);
       std::lock_guard<std::mutex> lock(mutex_);
+      const int frames = emu_.pump(1);
       bool any = false;
       for (const auto& m : emu_.motors()) any = any || m.commanded;
       if (!any || (!immediate_ && !emu_.allCommanded())) {

@@ -79,8 +79,8 @@ class CanWorld {
   }
   void run() {
     while (!done_) {
-      const int frames = emu_.pump(1);
       std::lock_guard<std::mutex> lock(mutex_);
+      const int frames = emu_.pump(1);
       bool any = false;
       for (const auto& m : emu_.motors()) any = any || m.commanded;
       if (!any || !emu_.allCommanded()) {

@@ -89,6 +89,42 @@ TEST(MitProtocol, SpecialCommandsAndReplies) {
   EXPECT_NEAR(back.torque, 33.0, 180.0 / 4095);
 }
 
+TEST(MitProtocol, ACommandNeverPacksToTheBytesOfASpecialOne) {
+  // Every field at its top but the torque two steps below: FF FF FF FF FF FF FF FD, the bytes
+  // of the disable command (FC..FE in the last byte: enable, disable, zero).
+  const MotorRanges r{12.5, 45, 90, 500, 5};
+  can_frame f;
+  ASSERT_EQ(packFixed(89.93, -90, 90, 12), 0xFFDu);
+  packCommand(1, MitCommand{12.5, 45, 500, 5, 89.93}, r, f);
+  MitSpecial which;
+  EXPECT_FALSE(unpackSpecial(f, which));
+  EXPECT_EQ(f.data[7], 0xFB);
+  MitCommand back;
+  ASSERT_TRUE(unpackCommand(f, r, back));
+  EXPECT_NEAR(back.torque, 90.0, 5 * 180.0 / 4095);
+}
+
+TEST(ImuProtocol, NoSampleWithoutAFreshOrientation) {
+  ImuSample s;
+  s.counter = 7;
+  can_frame frames[3];
+  packImu(0x100, s, frames);
+  ImuAssembler assembler(0x100);
+  bool completed = false;
+  assembler.take(frames[1], completed);
+  assembler.take(frames[2], completed);
+  EXPECT_FALSE(completed);  // no orientation yet
+  assembler.take(frames[0], completed);
+  EXPECT_TRUE(completed);
+  // The next sample's rates without its orientation frame: not a sample.
+  s.counter = 8;
+  packImu(0x100, s, frames);
+  assembler.take(frames[1], completed);
+  assembler.take(frames[2], completed);
+  EXPECT_FALSE(completed);
+  EXPECT_EQ(assembler.samples(), 1u);
+}
+
 TEST(ImuProtocol, SamplesRoundTripWithinTheirResolution) {
   ImuSample s;
   const double q[4] = {0.1, -0.2, 0.3, 0.927};  // x y z w, normalised below
