@@ -144,6 +144,38 @@ TEST(SwingTrajectory, EndsAtRestAndReachesTheApexAtMidSwing) {
   }
 }
 
+TEST(SwingTrajectory, OverAStepTheFootRisesBeforeItMovesAndMovesBeforeItLands) {
+  SwingTrajectory s;
+  s.liftOff = 0.0;
+  s.touchDown = 0.4;
+  s.liftOffPosition = {0.0, 0.1, 0.0};
+  s.touchDownPosition = {0.3, 0.1, 0.15};
+  s.apexHeight = 0.35;
+  s.lift = 0.2;
+  // The first and last 20 % of the swing: vertical only.
+  for (double t : {0.0, 0.04, 0.079}) {
+    EXPECT_NEAR(s.at(t).position.x(), 0.0, 1e-12) << t;
+    EXPECT_NEAR(s.at(t).velocity.x(), 0.0, 1e-12) << t;
+  }
+  EXPECT_GT(s.at(0.079).position.z(), 0.1);  // up by then
+  for (double t : {0.321, 0.36, 0.4}) EXPECT_NEAR(s.at(t).position.x(), 0.3, 1e-12) << t;
+  // In between the horizontal cubic, sped up to fit, still continuous in velocity.
+  EXPECT_NEAR(s.at(0.2).position.x(), 0.15, 1e-12);
+  for (double t = 0.01; t < 0.4; t += 0.013) {
+    const double h = 1e-6;
+    const PointReference p = s.at(t), pp = s.at(t + h), pm = s.at(t - h);
+    EXPECT_LT(((pp.position - pm.position) / (2 * h) - p.velocity).norm(), 1e-6) << t;
+  }
+  // The toe of a foot 10 cm from a 15 cm stage edge, when it gets there, is above the stage.
+  for (double t = 0.0; t <= 0.4; t += 0.001) {
+    const PointReference p = s.at(t);
+    if (p.position.x() >= 0.1) {
+      EXPECT_GT(p.position.z(), 0.15) << t;
+      break;
+    }
+  }
+}
+
 TEST(Footholds, EachTermOfTheEquation) {
   const FlatTerrain ground(0.02);
   FootholdParameters params;
@@ -243,6 +275,13 @@ TEST_F(SwingPlannerTest, ApexClearsTheTerrainAndFootholdsSitOnIt) {
   ASSERT_GT(sw->touchDownPosition.x(), 0.5);
   EXPECT_DOUBLE_EQ(sw->touchDownPosition.z(), 0.10);
   EXPECT_NEAR(sw->apexHeight, 0.18, 1e-12);
+  EXPECT_DOUBLE_EQ(sw->lift, SwingPlannerParameters{}.stepLift);  // a step up: lift first
+  // A swing on the flat floor is no step.
+  planner.update(schedule, state(), VelocityCommand{0.1, 0, 0}, 1.0, Stage());
+  const SwingTrajectory* flat = planner.swingAt(kLeftToe, 0.2);
+  ASSERT_NE(flat, nullptr);
+  ASSERT_LT(flat->touchDownPosition.x(), 0.5);
+  EXPECT_DOUBLE_EQ(flat->lift, 0.0);
 }
 
 TEST_F(SwingPlannerTest, FeetNeverCrossEvenWhenCommandedSideways) {
