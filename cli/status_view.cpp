@@ -78,8 +78,18 @@ std::string renderStatus(const json& s) {
     const json& tm = s["timing"];
     o << "timing     controller " << fmt("%.3f", num(tm, "wbc_ms")) << " ms (max "
       << fmt("%.3f", num(tm, "wbc_ms_max")) << ")   planner " << fmt("%.3f", num(tm, "mpc_ms"))
-      << " ms (" << s.value("planner", "?") << ")   overruns " << tm.value("tick_overruns", 0)
-      << "\n";
+      << " ms (" << s.value("planner", "?") << ")\n";
+    if (s.value("lockstep", false)) {
+      o << "schedule   lockstep (simulated time waits for the loop)\n";
+    } else if (tm.contains("lateness_ms")) {
+      const json& l = tm["lateness_ms"];
+      o << "schedule   tick " << fmt("%.3f", num(tm, "tick_ms")) << " ms (max "
+        << fmt("%.3f", num(tm, "tick_ms_max")) << ")   lateness last "
+        << fmt("%.3f", num(l, "last")) << " p50 " << fmt("%.3f", num(l, "p50")) << " p99 "
+        << fmt("%.3f", num(l, "p99")) << " max " << fmt("%.3f", num(l, "max")) << " ms (last "
+        << fmt("%.0f", num(tm, "window_s")) << " s)   late " << tm.value("late_ticks", 0)
+        << "   skipped " << tm.value("skipped_periods", 0) << "\n";
+    }
   }
   o << "faults    ";
   if (!s.contains("faults") || s["faults"].empty()) o << " none";

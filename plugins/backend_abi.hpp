@@ -10,8 +10,11 @@
 // no std::string, no exceptions. Per tick, on the control thread:
 //     read(sensors) -> controller -> write(commands) -> advance()
 // `advance` either sleeps until the next tick (real time) or steps the simulation one control
-// period (lockstep). A call that cannot finish within one period, or data that do not change
-// (sensors.sequence repeats), is reported as a fault; ballastd then damps the robot.
+// period (lockstep). In real time the ticks keep absolute deadlines (the first advance() + k
+// periods): advance() reports in TickTiming how late the next tick begins and how many periods
+// were skipped after a stall (the schedule moves ahead, no burst of catch-up ticks). A late tick
+// is not an error: ballastd counts it and decides (its deadline policy, ballastd(8)). Data that do
+// not change (sensors.sequence repeats) and kFault are faults; ballastd then damps the robot.
 //
 // Frames and units: SI; world frame z up; IMU quantities in the IMU frame; joint order is the
 // backend's (capabilities().joint_names), which ballastd maps to its model by name.
@@ -24,7 +27,7 @@
 
 namespace ballast::backend {
 
-inline constexpr std::uint32_t kBackendAbiVersion = 2;  // 2: position fixes
+inline constexpr std::uint32_t kBackendAbiVersion = 3;  // 2: position fixes; 3: TickTiming
 inline constexpr const char* kBackendEntrySymbol = "ballast_backend_entry";
 
 inline constexpr int kMaxJoints = 32;
@@ -41,9 +44,25 @@ struct Error {
 /// Result of a per-tick call.
 enum class Status : int {
   kOk = 0,
-  kStale = 1,    ///< no new data since the last read
-  kOverrun = 2,  ///< the call or the tick took longer than one control period
-  kFault = 3,    ///< the backend cannot go on (bus error, simulation diverged, ...); see lastError
+  kStale = 1,  ///< no new data since the last read
+  kFault = 3,  ///< the backend cannot go on (bus error, simulation diverged, ...); see lastError
+};
+
+/// How a real-time advance() kept the schedule (all zero in lockstep, where simulated time waits
+/// for the loop). Tick k is due to begin at the deadline start + k·period.
+struct TickTiming {
+  /// s: how long after its deadline the next tick begins: the wake-up latency when the tick
+  /// slept, the overrun when it could not; measured before any skip.
+  double lateness = 0.0;
+  /// The tick's work ran past the next deadline, so advance() could not sleep (an overrun). The
+  /// first ticks after start set the schedule and are never late.
+  bool late = false;
+  /// Whole periods skipped after a stall: the next tick is the one due now, not the first one
+  /// missed. A simulation steps its world through them with the commands held, as motors do.
+  std::uint32_t skipped = 0;
+  /// s the backend itself worked in advance() before pacing (a simulation's step; 0 if it does
+  /// not say): part of the tick's budget that the daemon cannot see.
+  double work = 0.0;
 };
 
 /// What ballastd hands a backend at configure time.
@@ -155,8 +174,15 @@ class Backend {
 
   virtual Status read(Sensors& sensors) = 0;
   virtual Status write(const Commands& commands) = 0;
-  virtual Status advance() = 0;
-  /// The message of the last kFault/kOverrun (empty if none).
+  /// Real time: sleeps to the next deadline and says how the schedule went; lockstep: steps the
+  /// simulation one period (timing stays zero).
+  virtual Status advance(TickTiming& timing) = 0;
+  /// The same, for callers that do not keep the timing (tests, tools).
+  Status advance() {
+    TickTiming ignored;
+    return advance(ignored);
+  }
+  /// The message of the last kFault (empty if none).
   virtual const Error& lastError() const = 0;
 
   /// Safe stop (hardware: damp then disable). Idempotent.

@@ -15,12 +15,13 @@
 
 namespace ballast::control {
 
-namespace {
-std::uint64_t nowNs() {
+std::uint64_t monotonicNs() {
   timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return static_cast<std::uint64_t>(ts.tv_sec) * 1000000000ull + ts.tv_nsec;
 }
+
+namespace {
 
 bool finite3(const double* x) {
   return std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]);
@@ -32,8 +33,6 @@ const char* statusName(backend::Status s) {
       return "ok";
     case backend::Status::kStale:
       return "stale data";
-    case backend::Status::kOverrun:
-      return "overrun";
     case backend::Status::kFault:
       return "fault";
   }
@@ -54,7 +53,9 @@ ControlLoop::ControlLoop(const model::Model& model, backend::Backend& backend,
       commands_(options.command_capacity),
       replies_(options.command_capacity),
       events_(256),
-      telemetry_(options.telemetry_capacity) {
+      telemetry_(options.telemetry_capacity),
+      clock_(options.clock ? options.clock : &monotonicNs),
+      timing_stats_(settings.rate) {
   if (nj_ > kMaxJoints)
     throw std::runtime_error(model.sourceFile + ": " + std::to_string(nj_) +
                              " joints; ballastd handles at most " + std::to_string(kMaxJoints));
@@ -126,10 +127,6 @@ void ControlLoop::backendStatus(backend::Status status, const char* call) {
     case backend::Status::kStale:
       raise(FaultKind::kBackendStale, message_);
       break;
-    case backend::Status::kOverrun:
-      ++overruns_;
-      raise(FaultKind::kBackendOverrun, message_);
-      break;
     default:
       raise(FaultKind::kBackendFault, message_);
       break;
@@ -137,16 +134,51 @@ void ControlLoop::backendStatus(backend::Status status, const char* call) {
 }
 
 void ControlLoop::run(const std::atomic<bool>& stop) {
-  while (!stop.load(std::memory_order_relaxed)) tick();
+  while (!stop.load(std::memory_order_relaxed)) guardedTick();
   shutting_down_ = true;
   modes_.damp();
-  for (int i = 0; i < options_.shutdown_ticks; ++i) tick();
-  backend_.stop();
+  for (int i = 0; i < options_.shutdown_ticks; ++i) guardedTick();
+  try {
+    backend_.stop();
+  } catch (...) {
+  }
   publish();
 }
 
+void ControlLoop::guardedTick() {
+  try {
+    tick();
+    return;
+  } catch (const std::exception& e) {
+    std::snprintf(message_, sizeof(message_), "control thread: exception: %.160s", e.what());
+  } catch (...) {
+    std::snprintf(message_, sizeof(message_), "control thread: an exception of unknown type");
+  }
+  // The tick did not finish: damp the motors, answer what was asked, keep the schedule. Each
+  // step on its own, since any of them may be what threw.
+  raise(FaultKind::kException, message_);
+  try {
+    dampOutput(nj_, sensors_ok_ ? q_ : input_.state.q, settings_->damping, output_);
+    writeCommands();
+  } catch (...) {
+  }
+  try {
+    publish();
+    sendReplies();
+  } catch (...) {
+  }
+  try {
+    ++ticks_;
+    backendStatus(backend_.advance(timing_), "advance");
+  } catch (...) {
+    // A backend that throws from advance() would spin: keep the period by sleeping it.
+    timespec ts{0, static_cast<long>(period_ * 1e9)};
+    nanosleep(&ts, nullptr);
+  }
+}
+
 void ControlLoop::tick() {
-  const std::uint64_t start = nowNs();
+  const std::uint64_t start = tick_start_ = clock_();
   readSensors();
   if (!started_ && sensors_ok_) {
     modes_.start(settings_->initial_mode, t_);
@@ -168,21 +200,55 @@ void ControlLoop::tick() {
     event(false, line);
     last_mode_ = mode;
   }
-  const std::uint64_t controller_start = nowNs();
+  const std::uint64_t controller_start = clock_();
   computeCommands();
   wbc_ms_ = secondsSince(controller_start) * 1e3;
   guardCommands();
   writeCommands();
 
   wbc_ms_max_ = std::max(wbc_ms_max_, wbc_ms_);
-  // Lockstep waits for the planner inside the tick (simulated time stands still meanwhile).
-  if (!options_.lockstep && secondsSince(start) > period_) ++overruns_;
   updateTruth();
   record();
   publish();
   sendReplies();
   ++ticks_;
-  backendStatus(backend_.advance(), "advance");
+  const double work = secondsSince(start);
+  timing_ = backend::TickTiming{};
+  backendStatus(backend_.advance(timing_), "advance");
+  keepSchedule(work + timing_.work);
+}
+
+void ControlLoop::keepSchedule(double work) {
+  // Lockstep: simulated time waits for the loop, nothing is ever late.
+  if (options_.lockstep) return;
+  timing_stats_.record(timing_, work);
+  if (timing_.late) {
+    // Counted and shown, not a fault by itself; logged at most every 10 s of controller time.
+    late_work_ = work;
+    if (t_ >= next_late_warning_) {
+      next_late_warning_ = t_ + 10.0;
+      const TimingSummary m = timing_stats_.summary();
+      std::snprintf(message_, sizeof(message_),
+                    "late tick: began %.2f ms after its deadline (the tick before worked %.2f ms, "
+                    "%.2f ms of it in the backend)%s; %llu late so far, lateness p99 %.2f ms, "
+                    "max %.2f ms over %.0f s",
+                    timing_.lateness * 1e3, work * 1e3, timing_.work * 1e3,
+                    timing_.skipped ? ", periods skipped" : "",
+                    static_cast<unsigned long long>(m.late_ticks), m.lateness_p99 * 1e3,
+                    m.lateness_max * 1e3, m.window);
+      event(true, message_);
+    }
+  }
+  const ControlSettings& s = *settings_;
+  const std::uint32_t window = timing_stats_.windowTicks();
+  const std::uint32_t late = timing_stats_.lateInLastSecond();
+  if (window > 0 && static_cast<double>(late) > s.max_late_fraction * s.rate) {
+    std::snprintf(message_, sizeof(message_),
+                  "%u of the last %u ticks were late (safety.max_late_fraction %.2f of a second's "
+                  "ticks); the last late one did %.2f ms of work",
+                  late, window, s.max_late_fraction, late_work_ * 1e3);
+    raise(FaultKind::kLateTicks, message_);
+  }
 }
 
 void ControlLoop::planPost() {
@@ -211,7 +277,11 @@ void ControlLoop::planPost() {
   // A new answer, to an input from after the restart?
   if (p && p->sequence != plan_.sequence && p->sequence != failed_sequence_ &&
       p->sequence >= first_sequence_) {
-    if (!p->valid) {
+    if (p->exception) {
+      std::snprintf(message_, sizeof(message_), "planner thread: %.170s", p->message);
+      raise(FaultKind::kException, message_);
+      failed_sequence_ = p->sequence;
+    } else if (!p->valid) {
       // One failed solve is not a fall: the plan in force stays (checked for age below). The
       // first failure of a streak is logged; all are counted.
       if (planner_streak_++ == 0) {
@@ -238,7 +308,7 @@ void ControlLoop::planPost() {
 }
 
 double ControlLoop::secondsSince(std::uint64_t start_ns) const {
-  return static_cast<double>(nowNs() - start_ns) * 1e-9;
+  return static_cast<double>(clock_() - start_ns) * 1e-9;
 }
 
 void ControlLoop::readSensors() {
@@ -456,6 +526,20 @@ void ControlLoop::writeCommands() {
   commands_out_.time = t_;
   for (int j = 0; j < nj_; ++j) commands_out_.joint[backend_index_[j]] = output_.joint[j];
   backendStatus(backend_.write(commands_out_), "write");
+  // The motors hold the last command between writes: how long they went without one is what
+  // matters in real time (a late tick that still writes in time is not a fault).
+  const std::uint64_t now = clock_();
+  if (!options_.lockstep && last_write_ns_ != 0) {
+    const double gap = static_cast<double>(now - last_write_ns_) * 1e-9;
+    if (gap > settings_->max_command_gap) {
+      std::snprintf(message_, sizeof(message_),
+                    "the motors went %.1f ms without a command (safety.max_command_gap %.1f ms): "
+                    "the control thread stalled",
+                    gap * 1e3, settings_->max_command_gap * 1e3);
+      raise(FaultKind::kCommandGap, message_);
+    }
+  }
+  last_write_ns_ = now;
 }
 
 void ControlLoop::publish() {
@@ -480,7 +564,8 @@ void ControlLoop::publish() {
   p.wbc_degraded_ticks = wbc_degraded_;
   p.wbc_ms = wbc_ms_;
   p.wbc_ms_max = wbc_ms_max_;
-  p.tick_overruns = overruns_;
+  p.timing = timing_stats_.summary();
+  p.tick_overruns = p.timing.late_ticks;
   p.faults = modes_.faults();
   p.telemetry_frames = recorded_;
   p.telemetry_dropped = dropped_;
@@ -513,6 +598,8 @@ void ControlLoop::record() {
   for (int i = 0; i < kNumPriorityLevels; ++i) f.task_error[i] = output_.task_error[i];
   f.mpc_ms = have_plan_ ? plan_.solve_ms : 0.0;
   f.wbc_ms = wbc_ms_;
+  f.tick_ms = secondsSince(tick_start_) * 1e3;
+  f.lateness_ms = timing_.lateness * 1e3;  // the previous advance(): how late this tick began
   f.num_joints = nj_;
   for (int j = 0; j < nj_; ++j) {
     f.q[j] = input_.state.q[j];
@@ -527,8 +614,8 @@ void ControlLoop::record() {
   }
   if (options_.lockstep) {
     // Simulated time waits for the writer; a writer gone for 0.2 s of wall time loses frames.
-    const std::uint64_t start = nowNs();
-    while (secondsSince(start) < 0.2) {
+    const std::uint64_t start = monotonicNs();
+    while (static_cast<double>(monotonicNs() - start) * 1e-9 < 0.2) {
       std::this_thread::yield();
       if (telemetry_.tryPush(f)) {
         ++recorded_;

@@ -15,12 +15,19 @@
 // go back in the reply for the IO side to free). tick() allocates nothing and takes no lock
 // (test/unit/control/no_allocation_test.cpp interposes malloc to check).
 //
-// Faults (backend kFault/kOverrun/kStale, repeated sensor sequence, NaN in sensors or commands,
-// a fall, a plan older than safety.max_plan_age) put the robot in damp until `reset`. A planner
-// answer without a valid plan (solver failure, NaN) never reaches the motors: the loop keeps
-// the last valid plan, logs the first failure of a streak and counts them. Real time: advance() paces the loop and a tick
-// whose computation exceeds the period counts as an overrun. Lockstep: advance() steps the
-// simulation, so the loop runs as fast as the backend and simulation time is controller time.
+// Faults (backend kFault/kStale, repeated sensor sequence, NaN in sensors or commands, a fall, a
+// plan older than safety.max_plan_age, an exception in the control or planner thread) put the
+// robot in damp until `reset`. A planner answer without a valid plan (solver failure, NaN) never
+// reaches the motors: the loop keeps the last valid plan, logs the first failure of a streak
+// and counts them.
+//
+// Real time: advance() paces the loop on absolute deadlines and reports each tick's lateness;
+// the deadline policy is that of robot stacks (ros2_control warns on an overrun and carries on;
+// the motors' own watchdogs catch a host that really stalls): a late tick is counted and shown
+// (status `timing`), never a fault by itself. The fault is the danger itself: the motors going
+// longer than safety.max_command_gap without a command, or more than safety.max_late_fraction of
+// the last second's ticks late. Lockstep: advance() steps the simulation, so the loop runs as
+// fast as the backend, simulation time is controller time and nothing is ever late.
 #pragma once
 
 #include <array>
@@ -40,8 +47,14 @@
 
 namespace ballast::control {
 
+/// CLOCK_MONOTONIC in ns: the loop's wall clock unless LoopOptions::clock says otherwise.
+std::uint64_t monotonicNs();
+
 struct LoopOptions {
   bool lockstep = false;
+  /// Wall clock (ns) for the tick's work and the command gap; nullptr: monotonicNs. Tests
+  /// substitute a clock they advance themselves.
+  std::uint64_t (*clock)() = nullptr;
   std::size_t command_capacity = 64;
   std::size_t telemetry_capacity = 4096;
   int shutdown_ticks = 50;  ///< damped ticks before backend stop() at shutdown
@@ -77,10 +90,13 @@ class ControlLoop {
   double nominalHeight() const { return stand_.nominalHeight(); }
 
   // ---- control thread ----
-  /// Ticks until stop is set, then damps for shutdown_ticks and stops the backend.
+  /// Ticks until stop is set, then damps for shutdown_ticks and stops the backend. An exception
+  /// in a tick is a fault: the motors are damped and the loop goes on.
   void run(const std::atomic<bool>& stop);
   /// One control period.
   void tick();
+  /// tick(), with any exception turned into a fault (what run() calls).
+  void guardedTick();
 
  private:
   void readSensors();
@@ -98,6 +114,8 @@ class ControlLoop {
   void raise(FaultKind kind, const char* message);
   void event(bool warning, const char* message);
   void backendStatus(backend::Status status, const char* call);
+  /// The deadline policy, after advance(): timing recorded, too many late ticks a fault.
+  void keepSchedule(double work);
   void notifyIo();
   double secondsSince(std::uint64_t start_ns) const;
 
@@ -153,7 +171,14 @@ class ControlLoop {
   bool shutting_down_ = false;
   bool fallen_ = false;
   Mode last_mode_ = Mode::kPassive;
-  std::uint64_t ticks_ = 0, last_sequence_ = 0, overruns_ = 0, dropped_ = 0, recorded_ = 0;
+  std::uint64_t ticks_ = 0, last_sequence_ = 0, dropped_ = 0, recorded_ = 0;
+  std::uint64_t (*clock_)();
+  backend::TickTiming timing_;  // what the last advance() reported
+  TickTimingStats timing_stats_;
+  std::uint64_t last_write_ns_ = 0;  // wall clock of the last command write
+  std::uint64_t tick_start_ = 0;     // wall clock at the start of this tick
+  double late_work_ = 0.0;           // work of the last late tick, s
+  double next_late_warning_ = 0.0;   // controller time
   std::uint64_t settings_generation_ = 0;
   double t_ = 0.0, period_ = 0.001;
   double wbc_ms_ = 0.0, wbc_ms_max_ = 0.0;

@@ -27,8 +27,6 @@ const char* faultName(FaultKind kind) {
   switch (kind) {
     case FaultKind::kBackendFault:
       return "backend_fault";
-    case FaultKind::kBackendOverrun:
-      return "backend_overrun";
     case FaultKind::kBackendStale:
       return "backend_stale";
     case FaultKind::kNotANumber:
@@ -39,6 +37,12 @@ const char* faultName(FaultKind kind) {
       return "estop";
     case FaultKind::kPlanner:
       return "planner";
+    case FaultKind::kCommandGap:
+      return "command_gap";
+    case FaultKind::kLateTicks:
+      return "late_ticks";
+    case FaultKind::kException:
+      return "exception";
   }
   return "unknown";
 }

@@ -1,6 +1,8 @@
 #include "control/planner_slot.hpp"
 
 #include <cerrno>
+#include <cstdio>
+#include <exception>
 #include <chrono>
 #include <ctime>
 
@@ -51,6 +53,15 @@ const PlannerOutput* PlannerSlot::latest() {
   return have_output_ ? &output_.front() : nullptr;
 }
 
+namespace {
+/// A planner that threw: no plan, and the loop treats it as a fault.
+void failed(PlannerOutput& out, const char* what) {
+  out.valid = false;
+  out.exception = true;
+  std::snprintf(out.message, sizeof(out.message), "exception: %s", what);
+}
+}  // namespace
+
 void PlannerSlot::run() {
   for (;;) {
     sem_wait(&wake_);
@@ -59,7 +70,14 @@ void PlannerSlot::run() {
     const PlannerInput& in = input_.front();
     PlannerOutput& out = output_.back();
     const auto t0 = std::chrono::steady_clock::now();
-    planner_->plan(in, out);
+    out.exception = false;
+    try {
+      planner_->plan(in, out);
+    } catch (const std::exception& e) {
+      failed(out, e.what());
+    } catch (...) {
+      failed(out, "an exception of unknown type");
+    }
     out.sequence = in.sequence;
     out.solve_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -51,6 +51,8 @@ struct ControlSettings {
   double max_pose_tilt = 0.35, max_pose_yaw = 0.35;     ///< rad
   double max_push_force = 300.0, max_push_duration = 5.0;
   double max_plan_age = 0.1;  ///< s: older plans are a planner fault
+  double max_command_gap = 0.01;   ///< s of wall time between command writes (real time)
+  double max_late_fraction = 0.2;  ///< of the last second's ticks (real time)
 
   // whole-body controller (stand and walk once a plan exists). Built with the settings on the
   // IO side, so a profile switch hands the loop a ready controller and nothing is allocated on

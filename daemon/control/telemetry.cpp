@@ -55,6 +55,8 @@ std::vector<std::string> telemetryColumns(const std::vector<std::string>& joints
   for (int i = 1; i <= kNumPriorityLevels; ++i) c.push_back("err_p" + std::to_string(i));
   c.push_back("mpc_ms");
   c.push_back("wbc_ms");
+  c.push_back("tick_ms");
+  c.push_back("lateness_ms");
   c.push_back("limb_err");  // RMS over the joints of q − q_ref, rad (the paper's Fig. 3 b)
   for (const char* prefix : {"q_", "dq_", "tau_", "qref_", "tauff_"})
     for (const auto& j : joints) c.push_back(prefix + j);
@@ -72,6 +74,8 @@ void formatTelemetryLine(const TelemetryFrame& f, std::string& line) {
   for (double e : f.task_error) put(line, e);
   put(line, f.mpc_ms);
   put(line, f.wbc_ms);
+  put(line, f.tick_ms);
+  put(line, f.lateness_ms);
   double sum = 0.0;
   for (int j = 0; j < f.num_joints; ++j) sum += (f.q[j] - f.q_ref[j]) * (f.q[j] - f.q_ref[j]);
   put(line, f.num_joints > 0 ? std::sqrt(sum / f.num_joints) : 0.0);

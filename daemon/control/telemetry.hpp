@@ -35,6 +35,8 @@ struct TelemetryFrame {
   bool contact[kNumContacts] = {};
   double task_error[kNumPriorityLevels] = {};
   double mpc_ms = 0.0, wbc_ms = 0.0;
+  double tick_ms = 0.0;      ///< the tick's work until it was recorded (read through write)
+  double lateness_ms = 0.0;  ///< how late the tick began (real time; 0 in lockstep)
   int num_joints = 0;
   double q[kMaxJoints] = {}, dq[kMaxJoints] = {}, tau[kMaxJoints] = {};
   double q_ref[kMaxJoints] = {}, tau_ff[kMaxJoints] = {};

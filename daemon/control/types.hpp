@@ -15,6 +15,7 @@
 #include <limits>
 
 #include "backend_abi.hpp"
+#include "control/tick_timing.hpp"
 #include "locomotion/plan.hpp"
 
 namespace ballast::control {
@@ -77,6 +78,7 @@ struct PlannerOutput {
   std::uint64_t sequence = 0;  ///< of the PlannerInput it answers
   double t = 0.0;              ///< controller time the plan starts at
   bool valid = false;          ///< false: solver failure or NaN; the loop keeps the last valid plan
+  bool exception = false;      ///< the planner threw (a bug, not a hard problem): a fault
   double solve_ms = 0.0;
   char message[kMessageLength] = {};  ///< why it is not valid
   /// The MPC's optimal state and input trajectories x*(t), u*(t), the contact schedule and the
@@ -102,14 +104,17 @@ struct ControllerOutput {
 
 enum class FaultKind : std::uint8_t {
   kBackendFault,
-  kBackendOverrun,
   kBackendStale,
   kNotANumber,
   kFall,
   kEstop,
   kPlanner,
+  kCommandGap,  ///< the motors went longer than safety.max_command_gap without a command
+  kLateTicks,   ///< more than safety.max_late_fraction of the last second's ticks were late
+  kException,   ///< the control or planner thread caught an exception
 };
-/// "backend_fault", "backend_overrun", "backend_stale", "nan", "fall", "estop", "planner".
+/// "backend_fault", "backend_stale", "nan", "fall", "estop", "planner", "command_gap",
+/// "late_ticks", "exception".
 const char* faultName(FaultKind kind);
 
 struct Fault {
@@ -121,7 +126,7 @@ struct Fault {
 
 /// Faults since the last reset, one entry per kind (the first message kept, occurrences counted).
 struct FaultList {
-  static constexpr int kCapacity = 8;
+  static constexpr int kCapacity = 12;
   Fault fault[kCapacity];
   int size = 0;
   /// Returns true when this kind is new since the last clear().
@@ -149,7 +154,8 @@ struct LoopStatus {
   double mpc_ms = 0.0;      ///< last planner solve
   double wbc_ms = 0.0;      ///< last controller computation (plan sampling + WBC, or standing)
   double wbc_ms_max = 0.0;  ///< since start
-  std::uint64_t tick_overruns = 0;
+  std::uint64_t tick_overruns = 0;       ///< late ticks since start (timing.late_ticks)
+  TimingSummary timing;                  ///< real-time schedule (zero in lockstep)
   std::uint64_t wbc_degraded_ticks = 0;  ///< ticks the WBC dropped lower priorities (QP failed)
   std::uint64_t planner_failures = 0;    ///< planner answers without a valid plan (kept the last)
   std::uint64_t position_fixes = 0;      ///< backend position fixes the estimator fused

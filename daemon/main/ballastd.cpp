@@ -9,9 +9,17 @@
 //
 // Any problem before the loop starts is printed (file:line:column: key: what is wrong for a
 // profile) and ballastd exits 1 without touching the robot; a bad command line exits 2.
+#include <linux/capability.h>
+#include <malloc.h>
 #include <pthread.h>
 #include <sched.h>
 #include <signal.h>
+#include <sys/mman.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <cerrno>
 
 #include <atomic>
 #include <cstdio>
@@ -48,10 +56,41 @@ void tryRealtime(std::thread& t) {
   sched_param param{};
   param.sched_priority = 80;
   if (pthread_setschedparam(t.native_handle(), SCHED_FIFO, &param) != 0)
-    spdlog::debug(
-        "control thread: no SCHED_FIFO priority (needs CAP_SYS_NICE); running at normal priority");
+    spdlog::warn(
+        "control thread: no SCHED_FIFO priority (needs CAP_SYS_NICE or an rtprio limit); "
+        "running at normal priority: late ticks are more likely");
   else
     spdlog::info("control thread: SCHED_FIFO priority 80");
+}
+
+/// True when the effective capability set has `cap` (CAP_IPC_LOCK, CAP_SYS_NICE).
+bool hasCapability(int cap) {
+  __user_cap_header_struct header{_LINUX_CAPABILITY_VERSION_3, 0};
+  __user_cap_data_struct data[_LINUX_CAPABILITY_U32S_3] = {};
+  if (syscall(SYS_capget, &header, data) != 0) return false;
+  return (data[cap / 32].effective >> (cap % 32)) & 1u;
+}
+
+/// Real time: the daemon's memory stays in RAM (no page fault delays a tick), and malloc keeps
+/// what it has instead of returning it. Only where every future allocation can be locked too
+/// (CAP_IPC_LOCK, or no RLIMIT_MEMLOCK); otherwise a warning, as for SCHED_FIFO.
+void lockMemory() {
+  rlimit limit{};
+  getrlimit(RLIMIT_MEMLOCK, &limit);
+  if (limit.rlim_cur != RLIM_INFINITY && !hasCapability(CAP_IPC_LOCK)) {
+    spdlog::warn(
+        "memory not locked: RLIMIT_MEMLOCK is {} KiB and there is no CAP_IPC_LOCK (`ulimit -l "
+        "unlimited`, or the capability): a page fault may delay a tick",
+        limit.rlim_cur / 1024);
+    return;
+  }
+  if (mlockall(MCL_CURRENT | MCL_FUTURE) != 0) {
+    spdlog::warn("memory not locked: mlockall: {}", std::strerror(errno));
+    return;
+  }
+  mallopt(M_TRIM_THRESHOLD, -1);
+  mallopt(M_MMAP_MAX, 0);
+  spdlog::info("memory locked (mlockall)");
 }
 
 }  // namespace
@@ -214,6 +253,7 @@ int main(int argc, char** argv) {
                BALLAST_VERSION, prof.name(), caps.name, caps.simulation ? "simulation" : "hardware",
                lockstep ? ", lockstep" : "", plugin->path(), model->name, model->nj(),
                ctx.settings->rate);
+  if (!lockstep) lockMemory();
   std::atomic<bool> stop{false};
   std::thread control([&] { loop->run(stop); });
   if (!lockstep) tryRealtime(control);
@@ -232,8 +272,9 @@ int main(int argc, char** argv) {
   writer.stop();
   server.close();
   const control::LoopStatus last = loop->status();
-  spdlog::info("stopped at t={:.3f} s in {} ({} ticks, {} overruns)", last.t,
-               control::modeName(last.mode), last.ticks, last.tick_overruns);
+  spdlog::info("stopped at t={:.3f} s in {} ({} ticks, {} late, {} periods skipped)", last.t,
+               control::modeName(last.mode), last.ticks, last.timing.late_ticks,
+               last.timing.skipped_periods);
   loop.reset();
   delete ctx.settings;
   return status;

@@ -146,6 +146,8 @@ control::ControlSettings buildSettings(const Profile& p, const model::Model& mod
   s.max_pose_yaw = p.number("safety.max_pose_yaw");
   s.max_push_force = p.number("safety.max_push_force");
   s.max_plan_age = p.number("safety.max_plan_age");
+  s.max_command_gap = p.number("safety.max_command_gap");
+  s.max_late_fraction = p.number("safety.max_late_fraction");
   s.max_push_duration = p.number("safety.max_push_duration");
 
   // planner, telemetry

@@ -55,6 +55,18 @@ json statusJson(const control::LoopStatus& s, const StatusExtras& x, bool joints
                  {"planner_failures", s.planner_failures},
                  {"position_fixes", s.position_fixes},
                  {"ticks", s.ticks}};
+  // The real-time schedule (all zero in lockstep): lateness over the last window_s seconds.
+  const control::TimingSummary& tm = s.timing;
+  j["timing"]["lateness_ms"] = {{"last", tm.lateness_last * 1e3},
+                                {"p50", tm.lateness_p50 * 1e3},
+                                {"p99", tm.lateness_p99 * 1e3},
+                                {"max", tm.lateness_max * 1e3}};
+  j["timing"]["window_s"] = tm.window;
+  j["timing"]["tick_ms"] = tm.work_last * 1e3;
+  j["timing"]["tick_ms_max"] = tm.work_max * 1e3;
+  j["timing"]["late_ticks"] = tm.late_ticks;
+  j["timing"]["late_last_second"] = tm.late_in_last_second;
+  j["timing"]["skipped_periods"] = tm.skipped_periods;
   j["faults"] = json::array();
   for (int i = 0; i < s.faults.size; ++i) {
     const control::Fault& f = s.faults.fault[i];

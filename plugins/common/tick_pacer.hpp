@@ -1,7 +1,11 @@
-// Real-time pacing of a backend's ticks on CLOCK_MONOTONIC: advance() sleeps until the next
-// deadline, one control period after the last; a tick that ends after its deadline is an
-// overrun (reported, counted), and the schedule restarts from then instead of trying to catch
-// up with a burst of short ticks.
+// Real-time pacing of a backend's ticks on CLOCK_MONOTONIC, on absolute deadlines: tick k is
+// due at start + k·period, whatever happened to the ticks before it (no drift). wait() sleeps to
+// the next deadline; a tick whose work ran past it begins at once and is late; after a stall of
+// more than a period the schedule skips the periods already gone (the next tick is the one due
+// now), so a stall is never followed by a burst of short catch-up ticks.
+//
+// The first kSettlingTicks after start() set the schedule (cold caches, page faults, the first
+// plan): a late one moves the schedule to now instead of counting, as a drive's start-up does.
 #pragma once
 
 #include <time.h>
@@ -9,6 +13,8 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
+
+#include "backend_abi.hpp"
 
 namespace ballast::plugin {
 
@@ -27,36 +33,66 @@ inline void addSeconds(timespec& t, double seconds) {
   const long long ns = static_cast<long long>(t.tv_nsec) + std::llround(seconds * 1e9);
   t.tv_sec += static_cast<time_t>(ns / 1000000000LL);
   t.tv_nsec = static_cast<long>(ns % 1000000000LL);
+  if (t.tv_nsec < 0) {
+    t.tv_nsec += 1000000000L;
+    --t.tv_sec;
+  }
 }
 
 class TickPacer {
  public:
+  static constexpr std::uint64_t kSettlingTicks = 10;
+
   /// The schedule starts now: the first deadline is one period away.
   void start(double period) {
     period_ = period;
-    deadline_ = monotonicNow();
+    start_ = monotonicNow();
+    ticks_ = 0;
+    late_ = skipped_ = 0;
   }
-  /// Sleeps until the next deadline. False if the tick already ended after it; `late` says by
-  /// how much (s).
-  bool wait(double& late) {
-    addSeconds(deadline_, period_);
-    const timespec now = monotonicNow();
-    late = secondsBetween(deadline_, now);
-    if (late > 0.0) {
-      ++overruns_;
-      deadline_ = now;
-      return false;
+  /// Sleeps until the next deadline (unless it has passed) and says how the tick went.
+  backend::TickTiming wait() {
+    backend::TickTiming timing;
+    ++ticks_;
+    timespec deadline = deadlineOf(ticks_);
+    timespec now = monotonicNow();
+    const double behind = secondsBetween(deadline, now);
+    if (behind > 0.0) {
+      if (ticks_ <= kSettlingTicks) {  // still setting the schedule: it starts again from now
+        start_ = now;
+        addSeconds(start_, -period_ * static_cast<double>(ticks_));
+        return timing;
+      }
+      timing.late = true;
+      timing.lateness = behind;
+      ++late_;
+      const auto skip = static_cast<std::uint64_t>(std::floor(behind / period_));
+      timing.skipped = static_cast<std::uint32_t>(skip);
+      skipped_ += skip;
+      ticks_ += skip;
+      return timing;
     }
-    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &deadline_, nullptr) == EINTR) {
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &deadline, nullptr) == EINTR) {
     }
-    return true;
+    now = monotonicNow();
+    timing.lateness = secondsBetween(deadline, now);  // the wake-up latency
+    return timing;
   }
-  std::uint64_t overruns() const { return overruns_; }
+  /// Ticks that could not sleep since start(), and periods skipped.
+  std::uint64_t lateTicks() const { return late_; }
+  std::uint64_t skippedPeriods() const { return skipped_; }
 
  private:
+  timespec deadlineOf(std::uint64_t k) const {
+    timespec d = start_;
+    addSeconds(d, period_ * static_cast<double>(k));
+    return d;
+  }
+
   double period_ = 0.001;
-  timespec deadline_{};
-  std::uint64_t overruns_ = 0;
+  timespec start_{};
+  std::uint64_t ticks_ = 0;  // deadlines handed out (including skipped ones)
+  std::uint64_t late_ = 0, skipped_ = 0;
 };
 
 }  // namespace ballast::plugin

@@ -126,6 +126,17 @@ const std::vector<SettingKey> kKeys = {
   {"initial_clearance", K::kNumber, "0", 0, 1000, "", "Initial state (start())",
    "gap (m) between the lowest contact sphere and the terrain under it (0: touching)",
    &S::initial_clearance},
+
+  {"host.stall_at", K::kNumber, "-1", -1, 1e6, "", "Host delays (real time; to test the daemon's deadline policy)",
+   "simulated time (s) at which the control host stalls once, for host.stall; -1: never", &S::host_stall_at},
+  {"host.stall", K::kNumber, "0.05", 0, 10, "", "Host delays (real time; to test the daemon's deadline policy)",
+   "length (s, wall time) of that stall", &S::host_stall},
+  {"host.jitter_from", K::kNumber, "0", 0, 1e6, "", "Host delays (real time; to test the daemon's deadline policy)",
+   "simulated time (s) from which ticks are delayed at random", &S::host_jitter_from},
+  {"host.jitter_fraction", K::kNumber, "0", 0, 1, "", "Host delays (real time; to test the daemon's deadline policy)",
+   "fraction of ticks delayed by host.jitter; 0: none", &S::host_jitter_fraction},
+  {"host.jitter", K::kNumber, "0.002", 0, 1, "", "Host delays (real time; to test the daemon's deadline policy)",
+   "delay (s, wall time) of a jittered tick", &S::host_jitter},
 };
 // clang-format on
 

@@ -83,6 +83,13 @@
 //   initial_yaw                   number  0              [-6.28319, 6.28319] base heading (rad)
 //   initial_clearance             number  0              [0, 1000]      gap (m) between the lowest contact sphere and the terrain under it (0: touching)
 //
+//   Host delays (real time; to test the daemon's deadline policy)
+//   host.stall_at                 number  -1             [-1, 1e+06]    simulated time (s) at which the control host stalls once, for host.stall; -1: never
+//   host.stall                    number  0.05           [0, 10]        length (s, wall time) of that stall
+//   host.jitter_from              number  0              [0, 1e+06]     simulated time (s) from which ticks are delayed at random
+//   host.jitter_fraction          number  0              [0, 1]         fraction of ticks delayed by host.jitter; 0: none
+//   host.jitter                   number  0.002          [0, 1]         delay (s, wall time) of a jittered tick
+//
 // test/integration/simbody/settings_test.cpp checks that this comment lists every key of the
 // table with its default.
 #pragma once
@@ -134,6 +141,8 @@ struct SimSettings : plugin::SectionLocations {
   JointAngles initial_joints;
   Vec3d initial_xy;  ///< [2] unused
   double initial_yaw, initial_clearance;
+
+  double host_stall_at, host_stall, host_jitter_from, host_jitter_fraction, host_jitter;
 };
 
 using SettingKey = plugin::SettingKey<SimSettings>;

@@ -71,6 +71,8 @@ bool SimbodyBackend::configure(const backend::Config& config, backend::Error& er
                     world_->jointNames()[static_cast<std::size_t>(j)].c_str());
     sensors_.configure(settings_, period_, config.seed);
     if (lidarEnabled_) lidar_.configure(settings_, config.seed);
+    host_.configure(settings_.host_stall_at, settings_.host_stall, settings_.host_jitter_from,
+                    settings_.host_jitter_fraction, settings_.host_jitter, config.seed);
     queue_.assign(static_cast<std::size_t>(settings_.motor_latency_ticks + 1), QueuedCommands{});
   } catch (const std::exception& e) {
     world_.reset();
@@ -167,7 +169,9 @@ backend::Status SimbodyBackend::write(const backend::Commands& commands) {
   return Status::kOk;
 }
 
-backend::Status SimbodyBackend::advance() {
+backend::Status SimbodyBackend::advance(backend::TickTiming& timing) {
+  timing = backend::TickTiming{};
+  const timespec begin = plugin::monotonicNow();
   if (!started_) return fault("simbody: advance() on a backend that is not started");
   if (faulted_) return Status::kFault;
   if (!lockstep_ && tick_ == 0) pacer_.start(period_);  // the schedule starts with the first tick
@@ -175,6 +179,8 @@ backend::Status SimbodyBackend::advance() {
   const QueuedCommands& slot = queue_[static_cast<std::size_t>(due >= 0 ? due : 0) % queue_.size()];
   if (due >= 0 && slot.tick == due) world_->setMotorCommands(slot.joint);
   try {
+    // After a stall (real time) the world has gone on meanwhile: it steps through the skipped
+    // periods with the motors holding their last command.
     world_->stepTo(static_cast<double>(tick_ + 1) * period_);
     ++tick_;
     if (lidarEnabled_) lidar_.tick(world_->time(), world_->lidarPose(), world_->terrain());
@@ -187,16 +193,11 @@ backend::Status SimbodyBackend::advance() {
     return fault("simbody: the simulation failed with an unknown exception");
   }
   if (lockstep_) return Status::kOk;
-
-  double late = 0.0;
-  if (!pacer_.wait(late)) {
-    char msg[160];
-    std::snprintf(msg, sizeof msg, "simbody: tick %llu ended %.3f ms after its deadline (%llu overruns)",
-                  static_cast<unsigned long long>(tick_), late * 1e3,
-                  static_cast<unsigned long long>(pacer_.overruns()));
-    copyMessage(lastError_, msg);
-    return Status::kOverrun;
-  }
+  host_.delay(world_->time());
+  const double work = plugin::secondsBetween(begin, plugin::monotonicNow());
+  timing = pacer_.wait();
+  timing.work = work;
+  tick_ += timing.skipped;
   return Status::kOk;
 }
 

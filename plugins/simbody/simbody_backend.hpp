@@ -23,7 +23,7 @@
 //     sim->read(sensors);               // kOk, or kStale if nothing new since the last read
 //     ... controller ...
 //     sim->write(commands);             // per joint tau_ff, q_des, dq_des, kp, kd
-//     sim->advance();                   // kOverrun (real time, late), kFault (see lastError())
+//     sim->advance(timing);             // kFault (see lastError()); real time: how late, skipped
 //   }
 //
 // Orders: joints are the URDF's movable joints in file order (capabilities().joint_names;
@@ -41,10 +41,13 @@
 // (written motor_latency_ticks ticks ago; motors keep the last command if none is due, and are
 // off until the first arrives), integrates one period, advances the lidar sweep and samples the
 // sensors once. read() copies that sample. In real time (Config::lockstep false) advance() then
-// sleeps to an absolute deadline (the first advance() + k periods; clock_nanosleep on
-// CLOCK_MONOTONIC); a tick that ends past its deadline returns kOverrun, is counted
-// (overruns()) and the schedule restarts from now. The simulation itself runs at about 7-10x
-// real time (test/bench/sim), so the controller has most of each period.
+// sleeps to an absolute deadline (plugins/common/tick_pacer.hpp: the first advance() + k periods,
+// clock_nanosleep on CLOCK_MONOTONIC) and reports the tick's lateness; after a stall the
+// schedule skips the periods gone and the next advance() simulates them with the motors holding
+// their last command, so simulated time stays wall time, as the world does for a real robot.
+// host_* keys inject host delays (a stall, jitter) before the pacing, to test the daemon's
+// deadline policy. The simulation itself runs at about 7-10x real time (test/bench/sim), so
+// the controller has most of each period.
 // Bad commands (wrong joint count, NaN/inf, negative gains) return kFault and are ignored (the
 // motors keep the previous ones). A failed or diverged simulation returns kFault from then on.
 // read() and write() never allocate; advance() allocates inside Simbody's integrator.
@@ -60,7 +63,8 @@
 #include "sensor_model.hpp"
 #include "sim_settings.hpp"
 #include "simbody_world.hpp"
-#include "tick_pacer.hpp"  // plugins/common
+#include "host_delays.hpp"  // plugins/common
+#include "tick_pacer.hpp"   // plugins/common
 
 namespace ballast::simbody {
 
@@ -71,7 +75,8 @@ class SimbodyBackend final : public backend::Backend {
   bool start(backend::Error& error) override;
   backend::Status read(backend::Sensors& sensors) override;
   backend::Status write(const backend::Commands& commands) override;
-  backend::Status advance() override;
+  backend::Status advance(backend::TickTiming& timing) override;
+  using backend::Backend::advance;
   const backend::Error& lastError() const override { return lastError_; }
   void stop() override;
   bool push(const backend::Push& push, backend::Error& error) override;
@@ -80,7 +85,7 @@ class SimbodyBackend final : public backend::Backend {
   // Not part of the ABI: for tests and benchmarks that link the backend directly.
   SimbodyWorld& world() { return *world_; }
   const SimSettings& settings() const { return settings_; }
-  std::uint64_t overruns() const { return pacer_.overruns(); }
+  std::uint64_t lateTicks() const { return pacer_.lateTicks(); }
   std::uint64_t ticks() const { return tick_; }
 
  private:
@@ -109,6 +114,7 @@ class SimbodyBackend final : public backend::Backend {
   backend::Sensors sample_;
   std::uint64_t lastReadSequence_ = 0;
   plugin::TickPacer pacer_;
+  plugin::HostDelays host_;
 };
 
 }  // namespace ballast::simbody

@@ -15,7 +15,8 @@
 //              and the torque to the joint's URDF effort too; always sent, faulted or not (the
 //              daemon's damping must reach the motors); a bus refusing frames for longer than
 //              reply_timeout is a fault
-//   advance    real time: sleep to the next tick (an overrun is reported); lockstep, possible
+//   advance    real time: sleep to the next deadline (lateness reported, skipped periods after a
+//              stall: tick_pacer.hpp); lockstep, possible
 //              only on emulated buses (fd:N): wait for every motor's reply and the IMU's sample
 //   stop       disable every motor, asking the silent ones again (disable_on_stop); idempotent
 //
@@ -51,7 +52,8 @@ class SocketcanBackend final : public backend::Backend {
   bool start(backend::Error& error) override;
   backend::Status read(backend::Sensors& sensors) override;
   backend::Status write(const backend::Commands& commands) override;
-  backend::Status advance() override;
+  backend::Status advance(backend::TickTiming& timing) override;
+  using backend::Backend::advance;
   const backend::Error& lastError() const override { return lastError_; }
   void stop() override;
 

@@ -30,6 +30,5 @@ ballast reset >/dev/null || fail "reset"
 fallen() { [ "$(field fallen)" = true ]; }
 wait_until "the fall to be seen" 30 fallen
 refused_with "has fallen" stand
-[ "$(field timing.tick_overruns)" = 0 ] || fail "the loop overran"
 stop_daemon
 echo "ok: estop latched, stand refused until reset, the damped robot's fall detected"

@@ -8,7 +8,8 @@
 //   reverse_joints: false     report joints in reverse URDF order (tests the name mapping)
 //   fault_at: -1              from this time on, every call fails with kFault
 //   stale_at: -1              read() returns kStale at this time (once)
-//   overrun_at: -1            advance() returns kOverrun at this time (once)
+//   stall_at: -1              real time: the tick at this time takes `stall` s of wall time (once)
+//   stall: 0.05               ... that long
 //   nan_at: -1                joint 0's position is NaN at this time (once)
 //   tilt_at: -1               the base tips over (1.2 rad about x) from this time on
 //   sink_at: -1               the base sinks to 0.3 m, level, from this time on
@@ -54,7 +55,7 @@ class FakeBackend final : public Backend {
     const std::string file = origin.substr(0, origin.rfind(':'));
     const int line = std::atoi(origin.substr(origin.rfind(':') + 1).c_str());
     static const char* kKeys[] = {"base_height", "reverse_joints",      "fault_at",
-                                  "stale_at",    "overrun_at",          "nan_at",
+                                  "stale_at",    "stall_at",            "nan_at",   "stall",
                                   "tilt_at",     "non_foot_contact_at", "fail_configure",
                                   "sink_at",     "disturbance"};
     if (section.IsMap())
@@ -74,7 +75,8 @@ class FakeBackend final : public Backend {
     base_height_ = num("base_height", 0.9);
     fault_at_ = num("fault_at", -1);
     stale_at_ = num("stale_at", -1);
-    overrun_at_ = num("overrun_at", -1);
+    stall_at_ = num("stall_at", -1);
+    stall_ = num("stall", 0.05);
     nan_at_ = num("nan_at", -1);
     tilt_at_ = num("tilt_at", -1);
     sink_at_ = num("sink_at", -1);
@@ -112,10 +114,7 @@ class FakeBackend final : public Backend {
     return true;
   }
   const Capabilities& capabilities() const override { return caps_; }
-  bool start(Error&) override {
-    clock_gettime(CLOCK_MONOTONIC, &next_);
-    return true;
-  }
+  bool start(Error&) override { return true; }
 
   Status read(Sensors& s) override {
     if (failing()) return Status::kFault;
@@ -159,7 +158,8 @@ class FakeBackend final : public Backend {
     return Status::kOk;
   }
 
-  Status advance() override {
+  Status advance(TickTiming& timing) override {
+    timing = TickTiming{};
     if (failing()) return Status::kFault;
     for (int j = 0; j < caps_.num_joints; ++j) {
       const JointCommand& c = cmd_[j];
@@ -169,14 +169,31 @@ class FakeBackend final : public Backend {
       tau_[j] = acc;
     }
     time_ += period_;
+    if (once(stall_at_)) {
+      const timespec pause{static_cast<time_t>(stall_), static_cast<long>(std::fmod(stall_, 1.0) * 1e9)};
+      nanosleep(&pause, nullptr);
+    }
     if (!lockstep_) {
+      // Absolute deadlines from the first tick; after a stall the periods gone are skipped.
+      if (next_.tv_sec == 0 && next_.tv_nsec == 0) clock_gettime(CLOCK_MONOTONIC, &next_);
       next_.tv_nsec += static_cast<long>(period_ * 1e9);
       while (next_.tv_nsec >= 1000000000L) next_.tv_nsec -= 1000000000L, ++next_.tv_sec;
-      clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next_, nullptr);
-    }
-    if (once(overrun_at_)) {
-      copyMessage(error_, "tick took longer than the period");
-      return Status::kOverrun;
+      timespec now;
+      clock_gettime(CLOCK_MONOTONIC, &now);
+      const double behind = static_cast<double>(now.tv_sec - next_.tv_sec) +
+                            1e-9 * static_cast<double>(now.tv_nsec - next_.tv_nsec);
+      if (behind > 0.0) {
+        timing.late = true;
+        timing.lateness = behind;
+        timing.skipped = static_cast<std::uint32_t>(behind / period_);
+        for (std::uint32_t k = 0; k < timing.skipped; ++k) {
+          next_.tv_nsec += static_cast<long>(period_ * 1e9);
+          while (next_.tv_nsec >= 1000000000L) next_.tv_nsec -= 1000000000L, ++next_.tv_sec;
+        }
+        time_ += period_ * timing.skipped;
+      } else {
+        clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &next_, nullptr);
+      }
     }
     return Status::kOk;
   }
@@ -209,7 +226,7 @@ class FakeBackend final : public Backend {
   Capabilities caps_;
   Error error_;
   double period_ = 0.001, time_ = 0.0, base_height_ = 0.9;
-  double fault_at_ = -1, stale_at_ = -1, overrun_at_ = -1, nan_at_ = -1, tilt_at_ = -1,
+  double fault_at_ = -1, stale_at_ = -1, stall_at_ = -1, stall_ = 0.05, nan_at_ = -1, tilt_at_ = -1,
          sink_at_ = -1, non_foot_at_ = -1;
   bool lockstep_ = false;
   std::uint64_t sequence_ = 0;

@@ -54,7 +54,6 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(FaultCase{"fault", "fault_at", "backend_fault",
                                 "the fake backend was told to fail"},
                       FaultCase{"stale", "stale_at", "backend_stale", "stale data"},
-                      FaultCase{"overrun", "overrun_at", "backend_overrun", "overrun"},
                       FaultCase{"nan", "nan_at", "nan", "is not a number"},
                       FaultCase{"tilt", "tilt_at", "fall", "base tilted"},
                       FaultCase{"low", "sink_at", "fall", "base height 0.300 m"},

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <thread>
 #include <cmath>
 #include <cstring>
 #include <random>
@@ -455,7 +456,7 @@ TEST_F(StageMap, TheRobotStandsOnTheStage) {
   EXPECT_LT(std::abs(stage.world().baseVelocity()[2]), 0.005);
 }
 
-TEST(Simulation, RealTimeModeSleepsToItsDeadlinesAndCountsOverruns) {
+TEST(Simulation, RealTimeModeKeepsAbsoluteDeadlinesAndSkipsPeriodsAfterAStall) {
   SimConfig config;
   config.lockstep = false;
   config.period = 0.002;
@@ -463,18 +464,55 @@ TEST(Simulation, RealTimeModeSleepsToItsDeadlinesAndCountsOverruns) {
   backend::Error error;
   ASSERT_TRUE(sim.configure(config.config(), error) && sim.start(error)) << error.message;
   const auto t0 = std::chrono::steady_clock::now();
-  for (int k = 0; k < 25; ++k) sim.advance();
+  backend::TickTiming timing;
+  for (int k = 0; k < 25; ++k) ASSERT_EQ(sim.advance(timing), Status::kOk);
   EXPECT_GE(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(50));  // 25 x 2 ms
-  // A period no simulation step can keep: every tick overruns, and says so.
-  config.period = 1e-5;
+  // A stall of 20 ms (10 periods) in the tick's own work: the next advance() reports the tick
+  // late, by at least the stall, and skips the periods gone instead of bursting through them.
+  const std::uint64_t lateBefore = sim.lateTicks();
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  ASSERT_EQ(sim.advance(timing), Status::kOk);
+  EXPECT_TRUE(timing.late);
+  EXPECT_GE(timing.lateness, 0.018);
+  EXPECT_GE(timing.skipped, 9u);
+  EXPECT_EQ(sim.lateTicks(), lateBefore + 1);
+  // The world went on meanwhile: the next step simulates the skipped periods with the motors
+  // holding their command, so simulated time keeps up with the wall.
+  const std::uint32_t skipped = timing.skipped;
+  backend::Sensors before, after;
+  ASSERT_EQ(sim.read(before), Status::kOk);
+  ASSERT_EQ(sim.advance(timing), Status::kOk);
+  ASSERT_EQ(sim.read(after), Status::kOk);
+  EXPECT_NEAR(after.time - before.time, (skipped + 1) * config.period, 1e-9);
+}
+
+TEST(Simulation, HostDelaysStallOnceAndJitterAFractionOfTicks) {
+  SimConfig config;
+  config.lockstep = false;
+  config.period = 0.002;
+  config.yaml = "host:\n  stall_at: 0.05\n  stall: 0.012\n  jitter_from: 0.1\n"
+                   "  jitter_fraction: 0.1\n  jitter: 0.004\n";
+  SimbodyBackend sim;
+  backend::Error error;
   ASSERT_TRUE(sim.configure(config.config(), error) && sim.start(error)) << error.message;
-  EXPECT_EQ(sim.advance(), Status::kOverrun);
-  EXPECT_EQ(sim.advance(), Status::kOverrun);
-  EXPECT_EQ(sim.overruns(), 2u);
-  EXPECT_NE(std::string(sim.lastError().message).find("after its deadline"), std::string::npos);
-  backend::Sensors s;
-  EXPECT_EQ(sim.read(s), Status::kOk);  // the simulation still advanced
-  EXPECT_DOUBLE_EQ(s.time, 2e-5);
+  backend::TickTiming timing;
+  int late = 0, lateAfterJitterStarts = 0;
+  double worst = 0.0;
+  for (int k = 0; k < 250; ++k) {
+    ASSERT_EQ(sim.advance(timing), Status::kOk);
+    if (!timing.late) continue;
+    ++late;
+    worst = std::max(worst, timing.lateness);
+    backend::Sensors s;
+    sim.read(s);
+    if (s.time > 0.1) ++lateAfterJitterStarts;
+  }
+  // The stall: one tick at least 10 ms late. The jitter: about 10 % of the 200 ticks after
+  // 0.1 s are 2 ms late (binomial: 20 ± 4.2; the bounds are 3 σ).
+  EXPECT_GE(worst, 0.010);
+  EXPECT_GE(lateAfterJitterStarts, 7);
+  EXPECT_LE(lateAfterJitterStarts, 45);
+  EXPECT_GE(late, lateAfterJitterStarts + 1);
 }
 
 }  // namespace

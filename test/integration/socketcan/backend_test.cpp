@@ -37,14 +37,14 @@ struct Rig {
   bool configureAndStart(backend::Error& error) {
     return can.configure(config, error) && can.start(error);
   }
-  /// n ticks holding `commands`; the first status other than kOk, else kOk. (A real-time tick
-  /// that overran is not what these tests are about: a loaded machine may overrun.)
+  /// n ticks holding `commands`; the first status other than kOk, else kOk. (A late real-time
+  /// tick is reported in its TickTiming, not as a status.)
   Status ticks(int n, const backend::Commands& commands) {
     for (int k = 0; k < n; ++k) {
       Status s = can.read(sensors);
       if (s == Status::kOk) s = can.write(commands);
       if (s == Status::kOk) s = can.advance();
-      if (s != Status::kOk && s != Status::kOverrun) return s;
+      if (s != Status::kOk) return s;
     }
     return Status::kOk;
   }

@@ -40,7 +40,7 @@ class TwoJoints final : public Backend {
     for (int j = 0; j < 2; ++j) q_[j] = c.joint[j].q_des;
     return Status::kOk;
   }
-  Status advance() override {
+  Status advance(TickTiming&) override {
     time_ += period_;
     ++sequence_;
     return Status::kOk;

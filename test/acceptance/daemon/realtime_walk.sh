@@ -1,0 +1,38 @@
+#!/bin/sh
+# Real time (issue 12 §2): ballastd without --lockstep, the whole controller (estimator, planner
+# thread, whole-body controller) on the Simbody robot: stand, walk at VX for 20 s, stand again.
+# Never damped, never fallen; the forward velocity over the walk's last 10 s within 10 % of the
+# command (ground truth). Prints the schedule's figures (status timing).
+# Usage: realtime_walk.sh BALLASTD BALLAST PROFILE VX
+BALLAST_ACCEPTANCE_REALTIME=1
+. "$(dirname "$0")/lib.sh"
+VX=$4
+
+never_damped() {
+  [ "$(field mode)" != damp ] || fail "damped: $(field faults)"
+  [ "$(field fallen)" = false ] || fail "fell"
+}
+# for_seconds S: S s of controller time (= wall time here), checking every poll
+for_seconds() {
+  t_end=$(calc "$(field t) + $1")
+  until time_after "$t_end" 0; do never_damped; sleep 0.1; done
+}
+
+start_daemon
+wait_until "stand" 30 mode_is stand
+for_seconds 1
+ballast walk --vx "$VX" --for 20s >/dev/null || fail "walk"
+wait_until "the loop to take the walk command" 10 mode_is walk
+for_seconds 10
+t0=$(field t) x0=$(field truth.base.position.0)
+for_seconds 10
+t1=$(field t) x1=$(field truth.base.position.0)
+wait_until "the walk to end (ttl)" 10 mode_is stand
+for_seconds 2
+never_damped
+v=$(calc "($x1 - $x0) / ($t1 - $t0)")
+echo "real time: walked at $v m/s (command $VX) over $(calc "$t1 - $t0") s"
+echo "real time: $(timing_line)"
+within "$v" "$VX" 0.1 || fail "forward velocity $v is not within 10 % of $VX"
+stop_daemon
+echo "ok: walked in real time, never damped"
