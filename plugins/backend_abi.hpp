@@ -65,6 +65,15 @@ struct TickTiming {
   double work = 0.0;
 };
 
+/// What the controller's model says of a joint that a simulation should reproduce.
+struct JointModel {
+  const char* name = "";  ///< URDF joint
+  /// kg·m² (kg for a prismatic joint): the rotor's inertia reflected through the gearbox
+  double armature = 0.0;
+  bool locked = false;           ///< fixed at locked_position in the model (not actuated)
+  double locked_position = 0.0;  ///< rad or m
+};
+
 /// What ballastd hands a backend at configure time.
 struct Config {
   const char* section_yaml = "";    ///< the profile's backend section (its own keys), YAML text
@@ -73,6 +82,10 @@ struct Config {
   const char* terrain_map = "";     ///< OctoMap file (.bt/.ot) the planner uses; "" = flat floor
   const char* const* contact_frames = nullptr;  ///< URDF link names of the contact points
   int num_contacts = 0;
+  /// The controller's per-joint model data, one entry per movable URDF joint it knows; a
+  /// joint absent here has no armature and is free.
+  const JointModel* joints = nullptr;
+  int num_joint_models = 0;
   double period = 0.001;            ///< control period, s
   bool lockstep = false;            ///< advance() steps the simulation instead of sleeping
   std::uint64_t seed = 0;           ///< for sensor noise and anything random

@@ -1,5 +1,6 @@
 #include "control/control_loop.hpp"
 
+#include <pthread.h>
 #include <sys/eventfd.h>
 #include <time.h>
 #include <unistd.h>
@@ -89,7 +90,7 @@ ControlLoop::~ControlLoop() {
 }
 
 void ControlLoop::attachPlanner(Planner* planner) {
-  planner_.start(planner, settings_->planner_rate, options_.lockstep);
+  planner_.start(planner, settings_->planner_rate, options_.lockstep, settings_->planner_latency);
 }
 
 bool ControlLoop::submit(const OperatorCommand& command) {
@@ -134,6 +135,7 @@ void ControlLoop::backendStatus(backend::Status status, const char* call) {
 }
 
 void ControlLoop::run(const std::atomic<bool>& stop) {
+  pthread_setname_np(pthread_self(), "ballast-loop");
   while (!stop.load(std::memory_order_relaxed)) guardedTick();
   shutting_down_ = true;
   modes_.damp();
@@ -190,7 +192,9 @@ void ControlLoop::tick() {
   modes_.update(t_);
   detectFall();
 
+  const std::uint64_t planner_start = clock_();
   planPost();
+  profile_.planner += secondsSince(planner_start);
 
   const Mode mode = shutting_down_ ? Mode::kDamp : modes_.mode();
   if (mode != last_mode_) {
@@ -203,6 +207,7 @@ void ControlLoop::tick() {
   const std::uint64_t controller_start = clock_();
   computeCommands();
   wbc_ms_ = secondsSince(controller_start) * 1e3;
+  profile_.controller += wbc_ms_ * 1e-3;
   guardCommands();
   writeCommands();
 
@@ -214,7 +219,11 @@ void ControlLoop::tick() {
   ++ticks_;
   const double work = secondsSince(start);
   timing_ = backend::TickTiming{};
+  const std::uint64_t advance_start = clock_();
   backendStatus(backend_.advance(timing_), "advance");
+  const double backend = options_.lockstep ? secondsSince(advance_start) : timing_.work;
+  profile_.backend += backend;
+  profile_.total += work + backend;
   keepSchedule(work + timing_.work);
 }
 
@@ -268,12 +277,17 @@ void ControlLoop::planPost() {
     planner_input_.restart = !planning_;
     planner_input_.state = input_.state;
     planner_input_.command = modes_.command();
+    planner_input_.lead = planLead();
     planning_ = true;
-    const bool answered = planner_.post(planner_input_);
+    bool timed_out = !planner_.post(planner_input_);
     if (planner_input_.restart) first_sequence_ = planner_input_.sequence;
-    if (!answered) raise(FaultKind::kPlanner, "the planner did not answer in time");
+    if (timed_out)
+      raise(FaultKind::kPlanner, "the planner did not answer within 2 s of wall time (lockstep)");
   }
-  const PlannerOutput* p = planner_.latest();
+  bool timed_out = false;
+  const PlannerOutput* p = planner_.latest(t_, timed_out);
+  if (timed_out)
+    raise(FaultKind::kPlanner, "the planner did not answer within 2 s of wall time (lockstep)");
   // A new answer, to an input from after the restart?
   if (p && p->sequence != plan_.sequence && p->sequence != failed_sequence_ &&
       p->sequence >= first_sequence_) {
@@ -295,6 +309,9 @@ void ControlLoop::planPost() {
     } else {
       plan_ = *p;  // a copy the planner cannot overwrite (about 80 kB, once per plan)
       have_plan_ = true;
+      // The solves' recent latency, for the next plan's lead (real time).
+      solve_time_ = solve_time_ > 0.0 ? 0.8 * solve_time_ + 0.2 * p->solve_ms * 1e-3
+                                      : p->solve_ms * 1e-3;
       planner_streak_ = 0;
     }
   }
@@ -305,6 +322,13 @@ void ControlLoop::planPost() {
                   planner_streak_ > 0 ? planner_message_ : "the planner did not answer");
     raise(FaultKind::kPlanner, message_);
   }
+}
+
+double ControlLoop::planLead() const {
+  // Lockstep: exactly the latency the pipeline gives. Real time: how long solves take now,
+  // within one planner period.
+  if (options_.lockstep) return settings_->planner_latency;
+  return std::min(solve_time_, 1.0 / settings_->planner_rate);
 }
 
 double ControlLoop::secondsSince(std::uint64_t start_ns) const {
@@ -362,7 +386,9 @@ void ControlLoop::readSensors() {
       terrain[c] = plan_.plan.supportHeight[c];
     }
   }
+  const std::uint64_t estimator_start = clock_();
   sensors_ok_ = estimator_.update(sensors_, q_, dq_, tau_, scheduled, terrain, input_.state);
+  profile_.estimator += secondsSince(estimator_start);
   // A localisation fix bounds the drift of leg odometry (the next update shows it).
   if (sensors_ok_ && sensors_.position_fix.fresh && settings_->use_position_fix &&
       backend_.capabilities().position_fix && estimator_.correctPosition(sensors_.position_fix))
@@ -565,6 +591,7 @@ void ControlLoop::publish() {
   p.wbc_ms = wbc_ms_;
   p.wbc_ms_max = wbc_ms_max_;
   p.timing = timing_stats_.summary();
+  p.profile = profile_;
   p.tick_overruns = p.timing.late_ticks;
   p.faults = modes_.faults();
   p.telemetry_frames = recorded_;

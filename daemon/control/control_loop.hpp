@@ -118,6 +118,8 @@ class ControlLoop {
   void keepSchedule(double work);
   void notifyIo();
   double secondsSince(std::uint64_t start_ns) const;
+  /// How far ahead of its input the next plan starts (PlannerInput::lead).
+  double planLead() const;
 
   const model::Model& model_;
   backend::Backend& backend_;
@@ -142,6 +144,7 @@ class ControlLoop {
   int planner_streak_ = 0;  // failed answers since the last valid plan
   char planner_message_[kMessageLength] = {};
   std::uint64_t wbc_degraded_ = 0;
+  double solve_time_ = 0.0;  // s, recent planner solve time (real time: the plans' lead)
 
   SpscRing<OperatorCommand> commands_;
   SpscRing<CommandReply> replies_;
@@ -177,6 +180,7 @@ class ControlLoop {
   TickTimingStats timing_stats_;
   std::uint64_t last_write_ns_ = 0;  // wall clock of the last command write
   std::uint64_t tick_start_ = 0;     // wall clock at the start of this tick
+  LoopProfile profile_;
   double late_work_ = 0.0;           // work of the last late tick, s
   double next_late_warning_ = 0.0;   // controller time
   std::uint64_t settings_generation_ = 0;

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "control/model_state.hpp"
+#include "model/base_conventions.hpp"
 
 namespace ballast::control {
 
@@ -15,7 +16,8 @@ MpcPlanner::MpcPlanner(const model::Model& model, const ControlSettings& setting
       settings_(settings.locomotion),
       posture_(model, settings),
       q_(Eigen::VectorXd::Zero(model.nq)),
-      v_(Eigen::VectorXd::Zero(model.nv)) {
+      v_(Eigen::VectorXd::Zero(model.nv)),
+      sampler_(model, locomotion::contactFrameIds(model, settings.locomotion)) {
   command_.standingJoints = Eigen::VectorXd::Zero(model.nj());
   rebuild();
 }
@@ -24,6 +26,29 @@ void MpcPlanner::rebuild() {
   planner_ = std::make_unique<locomotion::LocomotionPlanner>(model_, settings_, terrain_);
   walking_ = false;
   planned_ = false;
+  have_previous_ = false;
+}
+
+void MpcPlanner::predict(double t, double lead) {
+  sampler_.sample(previous_, t, at_t_);
+  sampler_.sample(previous_, t + lead, at_lead_);
+  // World-frame increments of the plan over the lead, applied to the measured state.
+  const Eigen::Matrix3d R0 = model::rotationFromZyx<double>(at_t_.baseZyx);
+  const Eigen::Matrix3d R1 = model::rotationFromZyx<double>(at_lead_.baseZyx);
+  const Eigen::Vector4d quat = q_.segment<4>(3);
+  const Eigen::Matrix3d R = model::quaternionToRotation<double>(quat.data());
+  const Eigen::Matrix3d Rnext = R1 * R0.transpose() * R;
+  const Eigen::Vector3d v = R * v_.head<3>() + at_lead_.baseLinearVelocity - at_t_.baseLinearVelocity;
+  const Eigen::Vector3d w =
+      R * v_.segment<3>(3) + at_lead_.baseAngularVelocity - at_t_.baseAngularVelocity;
+  q_.head<3>() += at_lead_.basePosition - at_t_.basePosition;
+  q_.segment<4>(3) = model::quaternionXyzwFromRotation(Rnext);
+  v_.head<3>().noalias() = Rnext.transpose() * v;
+  v_.segment<3>(3).noalias() = Rnext.transpose() * w;
+  for (int j = 0; j < model_.nj(); ++j) {
+    q_[model::Model::qIndexOfJoint(j)] += at_lead_.jointPositions[j] - at_t_.jointPositions[j];
+    v_[model::Model::vIndexOfJoint(j)] += at_lead_.jointVelocities[j] - at_t_.jointVelocities[j];
+  }
 }
 
 void MpcPlanner::requestSettings(const ControlSettings& settings) {
@@ -68,13 +93,18 @@ void MpcPlanner::plan(const PlannerInput& input, PlannerOutput& output) {
   command.yaw = c.yaw;
   posture_.solve(command.height, c.roll, c.pitch, c.yaw, 5, command.standingJoints.data());
 
-  output.t = input.t;
+  // The plan starts where it will be used (see the header comment); a fresh one, with nothing
+  // to predict from, at the measured state.
+  const double lead = have_previous_ && !fresh ? input.lead : 0.0;
+  if (lead > 0.0) predict(input.t, lead);
+  const double t = input.t + lead;
+  output.t = t;
   output.message[0] = '\0';
   // A fresh planner starts its SQP from the references, not from a previous solution: one
   // real-time iteration from there is no plan to act on. Converge it first.
   for (int i = 0; fresh && i < kFreshIterations; ++i)
-    planner_->update(input.t, q_, v_, command, output.plan);
-  output.valid = planner_->update(input.t, q_, v_, command, output.plan);
+    planner_->update(t, q_, v_, command, output.plan);
+  output.valid = planner_->update(t, q_, v_, command, output.plan);
   planned_ = output.valid;
   if (!output.valid) {
     copyText(output.message, planner_->statistics().message.c_str());
@@ -93,6 +123,8 @@ void MpcPlanner::plan(const PlannerInput& input, PlannerOutput& output) {
         return;
     }
   }
+  previous_ = output.plan;
+  have_previous_ = true;
 }
 
 }  // namespace ballast::control

@@ -13,6 +13,13 @@
 // solver's message; the loop keeps its last valid plan and raises a planner fault.
 // The terrain (MapTerrain) is the world, not a setting: a map handed over by setTerrain() is
 // taken at the start of the next plan(), walking or not.
+//
+// Latency: a plan reaches the controller `lead` seconds after the state it was made from (the
+// solve's time). A plan that starts at the measured state is then already `lead` old when it is
+// first used, and the whole-body controller spends the time until the next one pulling the robot
+// back onto a trajectory that began in the past: at 8 ms of latency walking went unstable. So the
+// plan starts at t + lead, from the measured state moved on by what the plan in force predicts
+// for those `lead` seconds (its base pose, twist and joints), as MPC delay compensation does.
 #pragma once
 
 #include <memory>
@@ -51,6 +58,13 @@ class MpcPlanner final : public Planner {
   StandPosture posture_;
   locomotion::LocomotionCommand command_;
   Eigen::VectorXd q_, v_;
+  /// The last valid plan and a sampler for it: the prediction over the lead.
+  locomotion::Plan previous_;
+  bool have_previous_ = false;
+  locomotion::PlanSampler sampler_;
+  locomotion::PlanSample at_t_, at_lead_;
+  /// Moves the model state (q_, v_) on from t to t + lead as previous_ predicts.
+  void predict(double t, double lead);
   bool walking_ = false;
   bool planned_ = false;  // the planner has made a plan since it was built
   static constexpr int kFreshIterations = 5;

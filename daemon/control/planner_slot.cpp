@@ -1,5 +1,7 @@
 #include "control/planner_slot.hpp"
 
+#include <pthread.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <exception>
@@ -14,10 +16,11 @@ PlannerSlot::~PlannerSlot() {
   sem_destroy(&answer_);
 }
 
-void PlannerSlot::start(Planner* planner, double rate, bool synchronous) {
+void PlannerSlot::start(Planner* planner, double rate, bool lockstep, double latency) {
   planner_ = planner;
   period_ = 1.0 / rate;
-  synchronous_ = synchronous;
+  lockstep_ = lockstep;
+  latency_ = latency;
   if (planner_) thread_ = std::thread([this] { run(); });
 }
 
@@ -29,26 +32,46 @@ void PlannerSlot::stop() {
 }
 
 bool PlannerSlot::post(PlannerInput& input, double timeout_s) {
+  // Lockstep: an answer still in flight is due by now (latency <= period): take it first.
+  bool timed_out = false;
+  if (lockstep_ && in_flight_ != 0) {
+    use_at_ = input.t;
+    latest(input.t, timed_out, timeout_s);
+  }
   input.sequence = ++sequence_;
   next_due_ = input.t + period_;
   input_.back() = input;
   input_.publish();
+  if (lockstep_) {
+    in_flight_ = input.sequence;
+    use_at_ = input.t + latency_;
+  }
   sem_post(&wake_);
-  if (!synchronous_) return true;
-  // Sleep, not spin: on two cores a spinning loop thread takes a core from the planner's
-  // linearisation team (lockstep ran below real time that way).
+  return !timed_out;
+}
+
+const PlannerOutput* PlannerSlot::latest(double t, bool& timed_out, double timeout_s) {
+  timed_out = false;
+  if (!lockstep_) {
+    if (output_.take()) have_output_ = true;
+    return have_output_ ? &output_.front() : nullptr;
+  }
+  if (in_flight_ == 0 || t + kTimeTolerance < use_at_)
+    return have_output_ ? &output_.front() : nullptr;
+  // Its time has come: wait for the answer (sleeping: on two cores a spinning loop thread
+  // would take a core from the planner's linearisation team).
   timespec deadline;
   clock_gettime(CLOCK_MONOTONIC, &deadline);
   const auto ns = static_cast<long long>(timeout_s * 1e9) + deadline.tv_nsec;
   deadline.tv_sec += static_cast<time_t>(ns / 1000000000LL);
   deadline.tv_nsec = static_cast<long>(ns % 1000000000LL);
-  while (answered_.load(std::memory_order_acquire) < input.sequence)
-    if (sem_clockwait(&answer_, CLOCK_MONOTONIC, &deadline) != 0 && errno == ETIMEDOUT)
-      return answered_.load(std::memory_order_acquire) >= input.sequence;
-  return true;
-}
-
-const PlannerOutput* PlannerSlot::latest() {
+  while (answered_.load(std::memory_order_acquire) < in_flight_)
+    if (sem_clockwait(&answer_, CLOCK_MONOTONIC, &deadline) != 0 && errno == ETIMEDOUT &&
+        answered_.load(std::memory_order_acquire) < in_flight_) {
+      timed_out = true;
+      return have_output_ ? &output_.front() : nullptr;
+    }
+  in_flight_ = 0;
   if (output_.take()) have_output_ = true;
   return have_output_ ? &output_.front() : nullptr;
 }
@@ -63,6 +86,7 @@ void failed(PlannerOutput& out, const char* what) {
 }  // namespace
 
 void PlannerSlot::run() {
+  pthread_setname_np(pthread_self(), "ballast-planner");
   for (;;) {
     sem_wait(&wake_);
     if (stop_) return;

@@ -1,14 +1,17 @@
 // The planner's seat beside the control loop: its own thread, fed the latest estimated state
 // and base command at planner.rate (controller time), answering with a PlannerOutput the loop
-// picks up without waiting.
+// picks up.
 //
 //   loop (1 kHz)  --post(PlannerInput) every 1/rate s-->  planner thread: plan()
-//   loop          <--latest(PlannerOutput)-------------   (triple buffers, a semaphore wake-up)
+//   loop          <--latest(t): PlannerOutput---------   (triple buffers, a semaphore wake-up)
 //
-// Real time: the loop never waits; the planner catches up with the newest input. Lockstep
-// (synchronous): the loop waits for the answer to what it posted, so a run is deterministic
-// and the planner keeps its rate in simulation time however long a solve takes in wall time.
-// Until daemon/mpc exists no Planner is attached, the slot is empty and `walk` is refused.
+// Real time: the loop never waits; it takes the newest answer when it arrives, however long
+// the solve took. Lockstep (pipelined, deterministic): an input posted at controller time t_k is
+// answered while the loop goes on ticking (the simulation on one core, the planner on the
+// other), and its answer is taken at t_k + latency exactly (planner.latency: the delay a real
+// solve has), waiting for it then if it is not there yet. Whatever the wall-clock speed of
+// either thread, the loop sees the same plans at the same ticks, so a lockstep run with one seed
+// is bit-for-bit repeatable. latency <= 1/rate: at most one input is in flight.
 #pragma once
 
 #include <semaphore.h>
@@ -40,26 +43,32 @@ class PlannerSlot {
   PlannerSlot(const PlannerSlot&) = delete;
   PlannerSlot& operator=(const PlannerSlot&) = delete;
 
-  /// Attaches a planner and starts its thread (before the loop runs).
-  void start(Planner* planner, double rate, bool synchronous);
+  /// Attaches a planner and starts its thread (before the loop runs). lockstep: answers are
+  /// taken `latency` s of controller time after their input (see the header comment).
+  void start(Planner* planner, double rate, bool lockstep, double latency);
   void stop();
   bool available() const { return planner_ != nullptr; }
 
   // Loop side.
   /// True when a new input is due at controller time t.
   bool due(double t) const { return available() && t + kTimeTolerance >= next_due_; }
-  /// Posts an input (stamps its sequence) and, if synchronous, waits for the answer (at most
-  /// timeout_s of wall time; false if it did not come).
+  /// Posts an input (stamps its sequence). Real time: never waits. Lockstep: takes an answer
+  /// still in flight first (false if it did not come within timeout_s of wall time).
   bool post(PlannerInput& input, double timeout_s = 2.0);
-  /// The newest output, nullptr before the first one.
-  const PlannerOutput* latest();
+  /// The output the loop uses at controller time t, nullptr before the first one: real time,
+  /// the newest; lockstep, the answer to the input in flight once t reaches its time (waiting
+  /// for it at most timeout_s of wall time: timed_out says it did not come).
+  const PlannerOutput* latest(double t, bool& timed_out, double timeout_s = 2.0);
 
  private:
   void run();
 
   Planner* planner_ = nullptr;
   double period_ = 0.01;
-  bool synchronous_ = false;
+  bool lockstep_ = false;
+  double latency_ = 0.0;
+  std::uint64_t in_flight_ = 0;  // lockstep: the sequence whose answer is awaited (0: none)
+  double use_at_ = 0.0;          // ... and the controller time it is taken at
   double next_due_ = 0.0;
   std::uint64_t sequence_ = 0;
   bool have_output_ = false;
@@ -68,7 +77,7 @@ class PlannerSlot {
   std::atomic<std::uint64_t> answered_{0};
   std::atomic<bool> stop_{false};
   sem_t wake_;
-  sem_t answer_;  ///< posted with every answer (synchronous waits)
+  sem_t answer_;  ///< posted with every answer (lockstep waits)
   std::thread thread_;
 };
 

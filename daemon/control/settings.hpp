@@ -63,6 +63,7 @@ struct ControlSettings {
 
   // planner, telemetry
   double planner_rate = 100.0;  ///< Hz
+  double planner_latency = 0.005;  ///< s: lockstep takes a plan this long after its input
   locomotion::LocomotionSettings locomotion;  ///< the planner thread copies it (MpcPlanner)
   int telemetry_decimation = 1;
 };

@@ -1,5 +1,7 @@
 #include "control/telemetry.hpp"
 
+#include <pthread.h>
+
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -93,7 +95,10 @@ TelemetryWriter::~TelemetryWriter() {
 }
 
 void TelemetryWriter::start() {
-  thread_ = std::thread([this] { run(); });
+  thread_ = std::thread([this] {
+    pthread_setname_np(pthread_self(), "ballast-writer");
+    run();
+  });
 }
 
 void TelemetryWriter::stop() {

@@ -71,6 +71,9 @@ struct PlannerInput {
   /// First input after a time without planning (start, or back from damp/passive): the planner
   /// forgets its previous solution and gait phase.
   bool restart = false;
+  /// s: the plan will be used from t + lead on (the solve's latency), so the planner starts it
+  /// there, from the state the plan in force predicts for then (see MpcPlanner).
+  double lead = 0.0;
   EstimatedState state;
   BaseCommand command;
 };
@@ -135,6 +138,15 @@ struct FaultList {
   bool has(FaultKind kind) const;
 };
 
+/// Where the control thread's wall time went since start, s (benchmarks: BM_LockstepWalk).
+struct LoopProfile {
+  double estimator = 0.0;   ///< the state estimator
+  double planner = 0.0;     ///< posting to the planner and taking its plans (lockstep: waiting)
+  double controller = 0.0;  ///< standing controller or plan sampling + whole-body controller
+  double backend = 0.0;     ///< advance(): lockstep, the simulation's step; real time, its work
+  double total = 0.0;       ///< whole ticks (real time: without the sleep)
+};
+
 /// What the loop publishes every tick (seqlock); status requests are answered from it.
 struct LoopStatus {
   double t = 0.0;
@@ -156,6 +168,7 @@ struct LoopStatus {
   double wbc_ms_max = 0.0;  ///< since start
   std::uint64_t tick_overruns = 0;       ///< late ticks since start (timing.late_ticks)
   TimingSummary timing;                  ///< real-time schedule (zero in lockstep)
+  LoopProfile profile;
   std::uint64_t wbc_degraded_ticks = 0;  ///< ticks the WBC dropped lower priorities (QP failed)
   std::uint64_t planner_failures = 0;    ///< planner answers without a valid plan (kept the last)
   std::uint64_t position_fixes = 0;      ///< backend position fixes the estimator fused

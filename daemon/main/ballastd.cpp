@@ -189,6 +189,13 @@ int main(int argc, char** argv) {
   config.terrain_map = terrain.c_str();
   config.contact_frames = contactNames.data();
   config.num_contacts = static_cast<int>(contactNames.size());
+  std::vector<backend::JointModel> jointModels(static_cast<std::size_t>(model->nj()));
+  for (int j = 0; j < model->nj(); ++j) {
+    jointModels[j].name = model->jointName[j + 1].c_str();
+    jointModels[j].armature = model->armature[j];
+  }
+  config.joints = jointModels.data();
+  config.num_joint_models = model->nj();
   config.period = 1.0 / ctx.settings->rate;
   config.lockstep = lockstep;
   config.seed = static_cast<std::uint64_t>(prof.integer("backend.seed"));

@@ -1,7 +1,8 @@
 // Joint-space inertia matrix M(q) by the composite rigid body algorithm (Featherstone, ch. 6).
 //
 //   crba(model, data, q) -> data.M (nv x nv, symmetric, both triangles filled), data.Ycrb
-// Rows and columns follow v (model.hpp): the base block is in the base frame.
+// Rows and columns follow v (model.hpp): the base block is in the base frame. The joints'
+// armature (model.armature) is on the diagonal of their block.
 #pragma once
 
 #include "model/forward_kinematics.hpp"
@@ -29,6 +30,7 @@ const MatX<S>& crba(const Model& model, Data<S>& data, const Eigen::MatrixBase<Q
     data.Ycrb[model.parent[i]] += data.Ycrb[i].transformedBy(data.liMi[i]);
   }
   data.M.template topLeftCorner<6, 6>() = data.Ycrb[0].matrix();
+  for (int j = 0; j < model.nj(); ++j) data.M(6 + j, 6 + j) += S(model.armature[j]);
   data.M.template triangularView<Eigen::StrictlyLower>() = data.M.transpose();
   return data.M;
 }

@@ -54,6 +54,10 @@ struct Model {
   VecX<double> upperPositionLimit;
   VecX<double> velocityLimit;
   VecX<double> effortLimit;
+  /// Reflected rotor inertia (kg·m², kg for a prismatic joint): the motor's rotor inertia times
+  /// the gear ratio squared, added to the joint's own entry of M (Pinocchio's and MuJoCo's
+  /// armature). Zero unless the profile gives it (robot.armature); the URDF has no element for it.
+  VecX<double> armature;
 
   std::vector<Frame> frames;  ///< one per URDF link (base and merged ones included)
 

@@ -4,6 +4,7 @@
 //   nonLinearEffects(model, data, q, v) -> data.nle = n(q, v)            (nv)
 // n holds Coriolis, centrifugal and gravity terms, with no contact forces. The base entries
 // are the force and torque on the base in the base frame, [f; n]. Gravity is model.gravity.
+// The joints' armature acts on their own acceleration only (armature · a_j; none in n).
 #pragma once
 
 #include "model/forward_kinematics.hpp"
@@ -37,6 +38,7 @@ void rneaPasses(const Model& model, Data<S>& data, const Eigen::MatrixBase<Q>& q
   }
   for (int i = model.nbodies() - 1; i > 0; --i) {
     out[5 + i] = dot(jointSubspace<S>(model.jointType[i], model.jointAxis[i]), data.f[i]);
+    if (a) out[5 + i] += S(model.armature[i - 1]) * S((*a)[5 + i]);
     data.f[model.parent[i]] += data.liMi[i].act(data.f[i]);
   }
   out.template head<3>() = data.f[0].linear;

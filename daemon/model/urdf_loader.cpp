@@ -264,6 +264,7 @@ class TreeBuilder {
     model_.upperPositionLimit = toVec(upper_);
     model_.velocityLimit = toVec(velocity_);
     model_.effortLimit = toVec(effort_);
+    model_.armature = VecX<double>::Zero(static_cast<Eigen::Index>(effort_.size()));
   }
 
   const urdf::ModelInterface& urdf_;

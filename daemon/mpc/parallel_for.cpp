@@ -1,5 +1,9 @@
 #include "mpc/parallel_for.hpp"
 
+#include <pthread.h>
+
+#include <string>
+
 namespace ballast::mpc {
 
 ParallelFor::ParallelFor(int threads) {
@@ -36,6 +40,7 @@ void ParallelFor::runErased(int n, void* body, Trampoline call) {
 }
 
 void ParallelFor::workerLoop(int thread) {
+  pthread_setname_np(pthread_self(), ("ballast-mpc-" + std::to_string(thread)).c_str());
   unsigned long seen = 0;
   for (;;) {
     {

@@ -68,6 +68,7 @@ const std::vector<Key> kTable = {
   strings("robot.contact_frames", "[left_toe, left_heel, right_toe, right_heel]", "the four contact points (URDF links): left toe, left heel, right toe, right heel").ofLength(4).needsRestart(),
   text("robot.imu_frame", "imu", "URDF link of the IMU; it must be fixed to the floating base").needsRestart(),
   groupMap("robot.joint_groups", "{}", "joint groups, name: [URDF joints]; every actuated joint belongs to exactly one").needsRestart(),
+  numberMap("robot.armature", "{}", 0, 10, "kg·m²", "reflected rotor inertia (rotor inertia times the gear ratio squared) per joint group or joint (a joint's entry wins over its group's), in the controller's model and the simulation; joints not listed: 0").needsRestart(),
   numberMap("robot.nominal_posture", "{}", -2 * kPi, 2 * kPi, "rad", "standing posture, joint: angle; joints not listed stand at 0"),
 
   // ---- control: the loop and the standing controller
@@ -102,6 +103,7 @@ const std::vector<Key> kTable = {
 
   // ---- planner: the kino-dynamic MPC (daemon/mpc, daemon/locomotion)
   number("planner.rate", "100", 10, 1000, "Hz", "planner rate, controller time").needsRestart(),
+  number("planner.latency", "0.005", 0, 0.1, "s", "lockstep: a plan is used this long (controller time) after the state it starts from, as a real-time solve's delay (at most 1 / planner.rate); real time uses each plan when it arrives").needsRestart(),
   number("planner.horizon", "1", 0.1, 5, "s", "MPC horizon (at most 100 nodes)"),
   number("planner.dt", "0.02", 0.002, 0.2, "s", "MPC node spacing"),
   integer("planner.threads", "2", 1, 16, "", "threads that linearise the MPC's nodes"),

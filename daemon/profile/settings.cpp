@@ -12,11 +12,34 @@
 namespace ballast::profile {
 
 model::Model loadModel(const Profile& profile) {
+  model::Model model;
   try {
-    return model::loadUrdfFile(profile.text("robot.urdf"));
+    model = model::loadUrdfFile(profile.text("robot.urdf"));
   } catch (const model::ModelError& e) {
     throw ProfileError({profile.problem("robot.urdf", e.what())});
   }
+  // Armature: groups first, then joints named on their own (they win).
+  const auto armature = profile.numberMap("robot.armature");
+  const auto groups = profile.groupMap("robot.joint_groups");
+  std::vector<std::string> problems;
+  for (const bool byGroup : {true, false})
+    for (const auto& [name, value] : armature) {
+      const auto group = groups.find(name);
+      if (byGroup != (group != groups.end())) continue;
+      const std::vector<std::string> joints = byGroup ? group->second : std::vector{name};
+      for (const std::string& joint : joints) {
+        const int j = model.findJoint(joint);
+        if (j < 0)
+          problems.push_back(profile.problem("robot.armature", name,
+                                             byGroup ? "group '" + name + "' names no movable joint '" + joint + "'"
+                                                     : "no joint group or movable joint of that name in " +
+                                                           model.sourceFile));
+        else
+          model.armature[j] = value;
+      }
+    }
+  if (!problems.empty()) throw ProfileError(problems);
+  return model;
 }
 
 control::ControlSettings buildSettings(const Profile& p, const model::Model& model) {
@@ -152,6 +175,9 @@ control::ControlSettings buildSettings(const Profile& p, const model::Model& mod
 
   // planner, telemetry
   s.planner_rate = p.number("planner.rate");
+  s.planner_latency = p.number("planner.latency");
+  if (s.planner_latency > 1.0 / s.planner_rate + 1e-9)
+    problems.push_back(p.problem("planner.latency", "must be at most one planner period (1 / planner.rate)"));
   if (p.number("planner.dt") >= p.number("planner.horizon"))
     problems.push_back(p.problem("planner.dt", "must be shorter than planner.horizon"));
   else if (p.number("planner.horizon") / p.number("planner.dt") > locomotion::kMaxNodes + 0.5)

@@ -49,6 +49,13 @@ bool SimbodyBackend::configure(const backend::Config& config, backend::Error& er
       options.contactFrames.emplace_back(config.contact_frames[i]);
     }
     options.settings = settings_;
+    for (int i = 0; i < config.num_joint_models; ++i)
+      if (config.joints && config.joints[i].name) {
+        if (config.joints[i].armature < 0.0 || !std::isfinite(config.joints[i].armature))
+          throw std::runtime_error(std::string("Config::joints: joint ") + config.joints[i].name +
+                                   ": armature must be finite and >= 0");
+        options.armature[config.joints[i].name] = config.joints[i].armature;
+      }
     options.terrainMap = settings_.terrain_map.empty()
                              ? std::string(config.terrain_map ? config.terrain_map : "")
                              : resolveMap(settings_);

@@ -38,7 +38,7 @@ double halfExtentAlong(const UrdfMultibody::CollisionShape& shape, const SimTK::
 SimbodyWorld::SimbodyWorld(const WorldOptions& options)
     : contactFrames_(options.contactFrames), urdfPath_(options.urdfPath) {
   const SimSettings& s = options.settings;
-  mb_ = buildUrdfMultibody(options.urdfPath);
+  mb_ = buildUrdfMultibody(options.urdfPath, options.armature);
   if (numJoints() > backend::kMaxJoints)
     throw std::runtime_error(urdfPath_ + ": " + std::to_string(numJoints()) +
                              " movable joints, the backend ABI carries at most " +

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -36,6 +37,7 @@ struct WorldOptions {
   SimSettings settings;
   std::string terrainMap;  ///< resolved path of the map to simulate; "" = flat floor
   std::string terrainMapWhere;  ///< prefix for map errors ("file:line:col: terrain_map: ")
+  std::map<std::string, double> armature;  ///< joint -> kg·m² (Config::joints)
 };
 
 /// True IMU values (before the sensor model adds noise). The specific force is the IMU point's

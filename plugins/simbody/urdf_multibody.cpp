@@ -29,8 +29,9 @@ SimTK::MassProperties massProperties(const urdf::Inertial& in) {
 
 class Builder {
  public:
-  Builder(const urdf::ModelInterface& urdf, UrdfMultibody& mb, std::map<std::string, int> order)
-      : urdf_(urdf), mb_(mb), order_(std::move(order)) {}
+  Builder(const urdf::ModelInterface& urdf, UrdfMultibody& mb, std::map<std::string, int> order,
+          const std::map<std::string, double>& armature)
+      : urdf_(urdf), mb_(mb), order_(std::move(order)), armature_(armature) {}
 
   void build() {
     urdf::LinkConstSharedPtr root = urdf_.getRoot();
@@ -104,7 +105,16 @@ class Builder {
     if (!child->inertial)
       throw std::runtime_error("link '" + child->name + "' is moved by joint '" + joint.name +
                                "' but has no <inertial>");
-    const SimTK::Body::Rigid body(massProperties(*child->inertial));
+    SimTK::MassProperties mass = massProperties(*child->inertial);
+    if (const auto a = armature_.find(joint.name); a != armature_.end() && a->second > 0.0) {
+      // The rotor: a disk on the joint axis at the joint (the child's origin), no extra mass.
+      const SimTK::Vec3 u = SimTK::UnitVec3(joint.axis.x, joint.axis.y, joint.axis.z).asVec3();
+      const SimTK::Mat33 axial = u * ~u;
+      const SimTK::Mat33 rotor = a->second * axial + 0.5 * a->second * (SimTK::Mat33(1) - axial);
+      mass = SimTK::MassProperties(mass.getMass(), mass.getMassCenter(),
+                                   SimTK::Inertia(mass.getInertia().toMat33() + rotor));
+    }
+    const SimTK::Body::Rigid body(mass);
     SimTK::MobilizedBody& P = mb_.matter.updMobilizedBody(parent);
     const SimTK::UnitVec3 axis(joint.axis.x, joint.axis.y, joint.axis.z);
     SimTK::MobilizedBodyIndex index;
@@ -148,11 +158,13 @@ class Builder {
   const urdf::ModelInterface& urdf_;
   UrdfMultibody& mb_;
   std::map<std::string, int> order_;
+  const std::map<std::string, double>& armature_;
 };
 
 }  // namespace
 
-std::unique_ptr<UrdfMultibody> buildUrdfMultibody(const std::string& urdfPath) {
+std::unique_ptr<UrdfMultibody> buildUrdfMultibody(const std::string& urdfPath,
+                                                  const std::map<std::string, double>& armature) {
   std::ifstream in(urdfPath);
   if (!in) throw std::runtime_error(urdfPath + ": cannot read the URDF");
   std::stringstream text;
@@ -162,7 +174,7 @@ std::unique_ptr<UrdfMultibody> buildUrdfMultibody(const std::string& urdfPath) {
   auto mb = std::make_unique<UrdfMultibody>();
   mb->robotName = parsed->getName();
   try {
-    Builder(*parsed, *mb, plugin::jointFileOrder(text.str())).build();
+    Builder(*parsed, *mb, plugin::jointFileOrder(text.str()), armature).build();
   } catch (const std::exception& e) {
     throw std::runtime_error(urdfPath + ": " + e.what());
   }

@@ -64,6 +64,15 @@ struct UrdfMultibody {
 };
 
 /// Builds the system (topology not yet realized). Throws std::runtime_error naming the file.
-std::unique_ptr<UrdfMultibody> buildUrdfMultibody(const std::string& urdfPath);
+///
+/// armature (joint -> kg·m², the controller's robot.armature) puts each joint's rotor on the
+/// body it moves, as a disk on the joint axis at the joint: its armature about the axis, half of
+/// it across. Simbody has no reflected inertia; the disk gives the joint's own entry of M
+/// exactly and couples it to the parent's rotation about the same axis as a rotor turning at
+/// the joint's rate would (a real rotor turns N times faster, so the coupling of a gear ratio N
+/// is N times smaller): the controller's model (armature on the diagonal only) differs from
+/// this world by that coupling and the disk's transverse inertia.
+std::unique_ptr<UrdfMultibody> buildUrdfMultibody(const std::string& urdfPath,
+                                                  const std::map<std::string, double>& armature = {});
 
 }  // namespace ballast::simbody

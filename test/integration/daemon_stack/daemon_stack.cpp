@@ -26,6 +26,13 @@ DaemonStack::DaemonStack(const std::string& profilePath) {
   config.terrain_map = map.c_str();
   config.contact_frames = contacts.data();
   config.num_contacts = static_cast<int>(contacts.size());
+  std::vector<backend::JointModel> jointModels(static_cast<std::size_t>(model_->nj()));
+  for (int j = 0; j < model_->nj(); ++j) {
+    jointModels[j].name = model_->jointName[j + 1].c_str();
+    jointModels[j].armature = model_->armature[j];
+  }
+  config.joints = jointModels.data();
+  config.num_joint_models = model_->nj();
   config.period = 1.0 / settings_->rate;
   config.lockstep = true;
   config.seed = static_cast<std::uint64_t>(profile_->integer("backend.seed"));

@@ -61,32 +61,39 @@ struct Sim {
   std::string message;
 };
 
+/// The contact tests hold for the plugin's default integrator and for the profiles' choice
+/// (verlet: one step per tick walking, with armature).
+const char* const kIntegrators[] = {"integrator: semi_explicit_euler2\n", "integrator: verlet\n"};
+
 SimTK::Vec3 basePosition(const backend::Sensors& s) {
   return {s.truth.base_position[0], s.truth.base_position[1], s.truth.base_position[2]};
 }
 
 TEST(Simulation, DropFromFiveCentimetresRestsOnTheFeet) {
-  Sim touching("");
-  Sim sim("initial_clearance: 0.05");
-  ASSERT_TRUE(touching.ok && sim.ok) << touching.message << sim.message;
-  const double z0 = basePosition(sim.sensors)[2];
-  EXPECT_NEAR(z0 - basePosition(touching.sensors)[2], 0.05, 1e-9);
-  EXPECT_FALSE(sim.sensors.truth.contact[0]);  // in the air
-  ASSERT_TRUE(sim.run(1500, sim.hold));
-  const backend::Truth& t = sim.sensors.truth;
-  for (int c = 0; c < 4; ++c) EXPECT_TRUE(t.contact[c]) << kContactFrames[c];
-  EXPECT_FALSE(t.non_foot_contact);
-  const double penetration = sim.world().maxPenetration();
-  EXPECT_GT(penetration, 0.0);
-  EXPECT_LT(penetration, 0.005);
-  // Settled: no bounce left (joint PD alone lets it sway gently forward and back on its ankles).
-  EXPECT_LT(std::abs(sim.world().baseVelocity()[2]), 0.005);
-  EXPECT_LT(sim.world().baseVelocity().norm(), 0.05);
-  EXPECT_NEAR(z0 - t.base_position[2], 0.05, 0.015);  // fell the 5 cm, knees give a little
-  // The feet carry the robot: the contact forces add up to its weight.
-  double fz = 0;
-  for (int c = 0; c < 4; ++c) fz += t.contact_force[c][2];
-  EXPECT_NEAR(fz, sim.world().mass() * 9.81, 0.02 * sim.world().mass() * 9.81);
+  for (const char* integrator : kIntegrators) {
+    SCOPED_TRACE(integrator);
+    Sim touching(integrator);
+    Sim sim(std::string(integrator) + "initial_clearance: 0.05");
+    ASSERT_TRUE(touching.ok && sim.ok) << touching.message << sim.message;
+    const double z0 = basePosition(sim.sensors)[2];
+    EXPECT_NEAR(z0 - basePosition(touching.sensors)[2], 0.05, 1e-9);
+    EXPECT_FALSE(sim.sensors.truth.contact[0]);  // in the air
+    ASSERT_TRUE(sim.run(1500, sim.hold));
+    const backend::Truth& t = sim.sensors.truth;
+    for (int c = 0; c < 4; ++c) EXPECT_TRUE(t.contact[c]) << kContactFrames[c];
+    EXPECT_FALSE(t.non_foot_contact);
+    const double penetration = sim.world().maxPenetration();
+    EXPECT_GT(penetration, 0.0);
+    EXPECT_LT(penetration, 0.005);
+    // Settled: no bounce left (joint PD alone lets it sway gently forward and back on its ankles).
+    EXPECT_LT(std::abs(sim.world().baseVelocity()[2]), 0.005);
+    EXPECT_LT(sim.world().baseVelocity().norm(), 0.05);
+    EXPECT_NEAR(z0 - t.base_position[2], 0.05, 0.015);  // fell the 5 cm, knees give a little
+    // The feet carry the robot: the contact forces add up to its weight.
+    double fz = 0;
+    for (int c = 0; c < 4; ++c) fz += t.contact_force[c][2];
+    EXPECT_NEAR(fz, sim.world().mass() * 9.81, 0.02 * sim.world().mass() * 9.81);
+  }
 }
 
 /// No motor torque, no joint stops, no contact: a free multibody in gravity, tumbling with its
@@ -128,21 +135,24 @@ TEST_P(FreeFlight, WithoutTorqueOrContactTheEnergyDoesNotGrow) {
 // of violent tumbling; Runge-Kutta-Merson conserves it to 1e-8.
 INSTANTIATE_TEST_SUITE_P(Integrators, FreeFlight,
                          ::testing::Values(EnergyCase{"semi_explicit_euler2", 0.01},
-                                           EnergyCase{"rkm", 1e-6}),
+                                           EnergyCase{"verlet", 0.01}, EnergyCase{"rkm", 1e-6}),
                          [](const auto& info) { return std::string(info.param.integrator); });
 
 TEST(Simulation, JointPdHoldsTheStandingPostureForThreeSeconds) {
-  Sim sim("");
-  ASSERT_TRUE(sim.ok) << sim.message;
-  const SimTK::Vec3 p0 = basePosition(sim.sensors);
-  double farthest = 0;
-  for (int k = 0; k < 30; ++k) {
-    ASSERT_TRUE(sim.run(100, sim.hold));
-    farthest = std::max(farthest, (basePosition(sim.sensors) - p0).norm());
-    for (int c = 0; c < 4; ++c) EXPECT_TRUE(sim.sensors.truth.contact[c]);
+  for (const char* integrator : kIntegrators) {
+    SCOPED_TRACE(integrator);
+    Sim sim(integrator);
+    ASSERT_TRUE(sim.ok) << sim.message;
+    const SimTK::Vec3 p0 = basePosition(sim.sensors);
+    double farthest = 0;
+    for (int k = 0; k < 30; ++k) {
+      ASSERT_TRUE(sim.run(100, sim.hold));
+      farthest = std::max(farthest, (basePosition(sim.sensors) - p0).norm());
+      for (int c = 0; c < 4; ++c) EXPECT_TRUE(sim.sensors.truth.contact[c]);
+    }
+    EXPECT_LT(farthest, 0.03);
+    EXPECT_FALSE(sim.sensors.truth.non_foot_contact);
   }
-  EXPECT_LT(farthest, 0.03);
-  EXPECT_FALSE(sim.sensors.truth.non_foot_contact);
 }
 
 TEST(Simulation, APushOnTheTorsoInTheAirChangesMomentumByItsImpulse) {
@@ -186,15 +196,19 @@ double footSlipUnderPush(Sim& sim) {
 }
 
 TEST(Simulation, FeetStickBelowTheFrictionLimitAndSlideAboveIt) {
-  // 40 N against μ m g: 490 N at μ = 0.8 (sticks), 12 N at μ = 0.02 (slides).
-  Sim grippy("friction: 0.8"), slippery("friction: 0.02");
-  ASSERT_TRUE(grippy.ok && slippery.ok);
-  ASSERT_TRUE(grippy.run(300, grippy.hold));
-  ASSERT_TRUE(slippery.run(300, slippery.hold));
-  EXPECT_LT(footSlipUnderPush(grippy), 0.002);
-  EXPECT_GT(footSlipUnderPush(slippery), 0.02);
-  EXPECT_FALSE(grippy.sensors.truth.non_foot_contact);  // leaned, did not fall
-  EXPECT_GT(grippy.sensors.truth.base_position[2], 0.8);
+  for (const char* integrator : kIntegrators) {
+    SCOPED_TRACE(integrator);
+    // 40 N against μ m g: 490 N at μ = 0.8 (sticks), 12 N at μ = 0.02 (slides).
+    Sim grippy(std::string(integrator) + "friction: 0.8"),
+        slippery(std::string(integrator) + "friction: 0.02");
+    ASSERT_TRUE(grippy.ok && slippery.ok);
+    ASSERT_TRUE(grippy.run(300, grippy.hold));
+    ASSERT_TRUE(slippery.run(300, slippery.hold));
+    EXPECT_LT(footSlipUnderPush(grippy), 0.002);
+    EXPECT_GT(footSlipUnderPush(slippery), 0.02);
+    EXPECT_FALSE(grippy.sensors.truth.non_foot_contact);  // leaned, did not fall
+    EXPECT_GT(grippy.sensors.truth.base_position[2], 0.8);
+  }
 }
 
 TEST(Simulation, PushesNameTheirBodyOrFail) {
@@ -385,19 +399,22 @@ TEST(Simulation, ReadAndWriteAllocateNothing) {
 }
 
 TEST(Simulation, AFallingRobotTouchesWithMoreThanItsFeetAndStaysAboveTheFloor) {
-  Sim sim("");
-  ASSERT_TRUE(sim.ok) << sim.message;
-  bool nonFoot = false;
-  double lowest = 10;
-  for (int k = 0; k < 30 && !nonFoot; ++k) {
-    ASSERT_TRUE(sim.run(100, sim.off));  // motors off: it collapses
-    nonFoot = sim.sensors.truth.non_foot_contact;
-    lowest = std::min(lowest, sim.sensors.truth.base_position[2]);
+  for (const char* integrator : kIntegrators) {
+    SCOPED_TRACE(integrator);
+    Sim sim(integrator);
+    ASSERT_TRUE(sim.ok) << sim.message;
+    bool nonFoot = false;
+    double lowest = 10;
+    for (int k = 0; k < 30 && !nonFoot; ++k) {
+      ASSERT_TRUE(sim.run(100, sim.off));  // motors off: it collapses
+      nonFoot = sim.sensors.truth.non_foot_contact;
+      lowest = std::min(lowest, sim.sensors.truth.base_position[2]);
+    }
+    EXPECT_TRUE(nonFoot);
+    ASSERT_TRUE(sim.run(1000, sim.off));
+    EXPECT_GT(sim.sensors.truth.base_position[2], 0.04);  // lies on the floor, not in it
+    EXPECT_LT(sim.world().maxPenetration(), 0.01);
   }
-  EXPECT_TRUE(nonFoot);
-  ASSERT_TRUE(sim.run(1000, sim.off));
-  EXPECT_GT(sim.sensors.truth.base_position[2], 0.04);  // lies on the floor, not in it
-  EXPECT_LT(sim.world().maxPenetration(), 0.01);
 }
 
 class StageMap : public ::testing::Test {
@@ -444,16 +461,19 @@ TEST_F(StageMap, TheLidarSeesTheStageTopAtItsHeight) {
 }
 
 TEST_F(StageMap, TheRobotStandsOnTheStage) {
-  Sim floor("", path_);
-  Sim stage("initial_xy: [1.3, 0]\n", path_);
-  ASSERT_TRUE(floor.ok && stage.ok) << floor.message << stage.message;
-  ASSERT_TRUE(floor.run(1000, floor.hold));
-  ASSERT_TRUE(stage.run(1000, stage.hold));
-  for (int c = 0; c < 4; ++c) EXPECT_TRUE(stage.sensors.truth.contact[c]);
-  EXPECT_FALSE(stage.sensors.truth.non_foot_contact);
-  EXPECT_NEAR(stage.sensors.truth.base_position[2] - floor.sensors.truth.base_position[2], 0.10, 1e-3);
-  EXPECT_LT(stage.world().maxPenetration(), 0.005);
-  EXPECT_LT(std::abs(stage.world().baseVelocity()[2]), 0.005);
+  for (const char* integrator : kIntegrators) {
+    SCOPED_TRACE(integrator);
+    Sim floor(integrator, path_);
+    Sim stage(std::string(integrator) + "initial_xy: [1.3, 0]\n", path_);
+    ASSERT_TRUE(floor.ok && stage.ok) << floor.message << stage.message;
+    ASSERT_TRUE(floor.run(1000, floor.hold));
+    ASSERT_TRUE(stage.run(1000, stage.hold));
+    for (int c = 0; c < 4; ++c) EXPECT_TRUE(stage.sensors.truth.contact[c]);
+    EXPECT_FALSE(stage.sensors.truth.non_foot_contact);
+    EXPECT_NEAR(stage.sensors.truth.base_position[2] - floor.sensors.truth.base_position[2], 0.10, 1e-3);
+    EXPECT_LT(stage.world().maxPenetration(), 0.005);
+    EXPECT_LT(std::abs(stage.world().baseVelocity()[2]), 0.005);
+  }
 }
 
 TEST(Simulation, RealTimeModeKeepsAbsoluteDeadlinesAndSkipsPeriodsAfterAStall) {

@@ -37,6 +37,25 @@ TEST_F(Algorithms, InverseDynamicsIsMassMatrixTimesAccelerationPlusBias) {
   }
 }
 
+TEST_F(Algorithms, ArmatureAddsToTheJointDiagonalAndActsOnTheJointsAccelerationOnly) {
+  Model withArmature = m;
+  std::uniform_real_distribution<double> value(0.001, 0.05);
+  for (int j = 0; j < m.nj(); ++j) withArmature.armature[j] = value(rng);
+  Data<double> armed(withArmature);
+  for (int k = 0; k < kStates; ++k) {
+    const RandomState s = randomState(m, rng);
+    const MatX<double> M = crba(m, data, s.q);
+    const MatX<double> Ma = crba(withArmature, armed, s.q);
+    MatX<double> expected = M;
+    expected.diagonal().tail(m.nj()) += withArmature.armature;
+    EXPECT_LT((Ma - expected).norm(), 1e-12);
+    // Inverse dynamics stays M a + n with the armed M, and n does not change.
+    const VecX<double> n = nonLinearEffects(m, data, s.q, s.v);
+    EXPECT_LT((nonLinearEffects(withArmature, armed, s.q, s.v) - n).norm(), 1e-12);
+    EXPECT_LT((rnea(withArmature, armed, s.q, s.v, s.a) - (Ma * s.a + n)).norm(), 1e-10);
+  }
+}
+
 TEST_F(Algorithms, KineticEnergyFromMassMatrixEqualsSumOverBodies) {
   for (int k = 0; k < kStates; ++k) {
     const RandomState s = randomState(m, rng);

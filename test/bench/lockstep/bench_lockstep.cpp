@@ -1,0 +1,58 @@
+// BM_LockstepWalk: ballastd's control core in lockstep (test/integration/daemon_stack: the
+// profile, the backend plugin, the planner thread, the control loop), walking at 1.0 m/s on flat
+// ground with the whole controller: simulated seconds per wall second (x_real_time; goal >= 3 on
+// this project's 2-core machine, issue 12) and where each tick's wall time goes, in ms per tick:
+// sim (the backend's step), wbc (plan sampling and whole-body controller), estimator, planner
+// (the loop posting and waiting for plans), other (status, telemetry, commands).
+// One iteration: one second of simulated walking, after standing up and a second of walking.
+#include <benchmark/benchmark.h>
+
+#include <memory>
+#include <string>
+
+#include "test/integration/daemon_stack/daemon_stack.hpp"
+
+namespace {
+
+using namespace ballast;
+
+void lockstepWalk(benchmark::State& state, const std::string& profile, double vx) {
+  std::unique_ptr<test::DaemonStack> stack;
+  try {
+    stack = std::make_unique<test::DaemonStack>(std::string(BALLAST_SOURCE_DIR) + "/profiles/" +
+                                                profile);
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
+  if (!stack->waitForMode(control::Mode::kStand, 5.0) ||
+      stack->walk(vx) != control::Refusal::kNone || !stack->run(1.0)) {
+    state.SkipWithError("the robot did not stand and start walking");
+    return;
+  }
+  const control::LoopStatus before = stack->status();
+  for (auto _ : state)
+    if (!stack->run(1.0)) {
+      state.SkipWithError("the robot fell or was damped while walking");
+      return;
+    }
+  const control::LoopStatus after = stack->status();
+  const double ticks = static_cast<double>(after.ticks - before.ticks);
+  const control::LoopProfile& a = after.profile;
+  const control::LoopProfile& b = before.profile;
+  auto perTick = [&](double x, double y) { return (x - y) / ticks * 1e3; };
+  state.counters["x_real_time"] =
+      benchmark::Counter(after.t - before.t, benchmark::Counter::kIsRate);
+  state.counters["sim_ms"] = perTick(a.backend, b.backend);
+  state.counters["wbc_ms"] = perTick(a.controller, b.controller);
+  state.counters["estimator_ms"] = perTick(a.estimator, b.estimator);
+  state.counters["planner_ms"] = perTick(a.planner, b.planner);
+  state.counters["other_ms"] = perTick(a.total - a.backend - a.controller - a.estimator - a.planner,
+                                       b.total - b.backend - b.controller - b.estimator - b.planner);
+  state.counters["fell"] = after.fallen;
+}
+
+void BM_LockstepWalk(benchmark::State& state) { lockstepWalk(state, "sim-flat.yaml", 1.0); }
+BENCHMARK(BM_LockstepWalk)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(5);
+
+}  // namespace
