@@ -2,15 +2,22 @@
 
 # ballast_add_gtest(NAME name SOURCES ... LIBS ... [LABELS ...])
 # A GoogleTest executable in build/bin whose tests CTest discovers one by one.
+# REAL_TIME: the tests measure wall-clock timing; they run alone (RUN_SERIAL) and carry the
+# label realtime, so the rest of the suite cannot starve them.
 function(ballast_add_gtest)
-  cmake_parse_arguments(T "" "NAME" "SOURCES;LIBS;LABELS" ${ARGN})
+  cmake_parse_arguments(T "REAL_TIME" "NAME" "SOURCES;LIBS;LABELS" ${ARGN})
   add_executable(${T_NAME} ${T_SOURCES})
   target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} GTest::gtest_main)
   target_include_directories(${T_NAME} PRIVATE ${PROJECT_SOURCE_DIR})
   target_compile_definitions(${T_NAME} PRIVATE
     BALLAST_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     BALLAST_TEST_DATA_DIR="${PROJECT_SOURCE_DIR}/test/data")
-  gtest_discover_tests(${T_NAME} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${T_LABELS}")
+  if(T_REAL_TIME)
+    gtest_discover_tests(${T_NAME} DISCOVERY_TIMEOUT 60
+                         PROPERTIES LABELS "${T_LABELS};realtime" RUN_SERIAL TRUE)
+  else()
+    gtest_discover_tests(${T_NAME} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${T_LABELS}")
+  endif()
 endfunction()
 
 # Backend plugins: build/lib/ballast/libballast_backend_<name>.so, installed to <libdir>/ballast.

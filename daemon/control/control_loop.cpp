@@ -90,7 +90,13 @@ ControlLoop::~ControlLoop() {
 }
 
 void ControlLoop::attachPlanner(Planner* planner) {
-  planner_.start(planner, settings_->planner_rate, options_.lockstep, settings_->planner_latency);
+  planner_.start(planner, settings_->planner_rate, options_.lockstep, settings_->planner_latency,
+                 options_.lockstep ? 0 : options_.planner_priority);
+}
+
+void ControlLoop::detachPlanner() {
+  planner_.detach();
+  have_plan_ = planning_ = false;
 }
 
 bool ControlLoop::submit(const OperatorCommand& command) {
@@ -552,11 +558,12 @@ void ControlLoop::writeCommands() {
   commands_out_.time = t_;
   for (int j = 0; j < nj_; ++j) commands_out_.joint[backend_index_[j]] = output_.joint[j];
   backendStatus(backend_.write(commands_out_), "write");
-  // The motors hold the last command between writes: how long they went without one is what
-  // matters in real time (a late tick that still writes in time is not a fault).
-  const std::uint64_t now = clock_();
-  if (!options_.lockstep && last_write_ns_ != 0) {
-    const double gap = static_cast<double>(now - last_write_ns_) * 1e-9;
+  // The motors hold the last command between writes: how long they went without one, on the
+  // backend's clock (the wall for hardware; a simulation's world, which waits while the
+  // simulator computes), is what matters in real time; a late tick that still writes in time
+  // is not a fault.
+  if (!options_.lockstep && have_written_) {
+    const double gap = t_ - last_write_time_;
     if (gap > settings_->max_command_gap) {
       std::snprintf(message_, sizeof(message_),
                     "the motors went %.1f ms without a command (safety.max_command_gap %.1f ms): "
@@ -565,7 +572,8 @@ void ControlLoop::writeCommands() {
       raise(FaultKind::kCommandGap, message_);
     }
   }
-  last_write_ns_ = now;
+  last_write_time_ = t_;
+  have_written_ = true;
 }
 
 void ControlLoop::publish() {

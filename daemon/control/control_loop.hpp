@@ -52,12 +52,14 @@ std::uint64_t monotonicNs();
 
 struct LoopOptions {
   bool lockstep = false;
-  /// Wall clock (ns) for the tick's work and the command gap; nullptr: monotonicNs. Tests
-  /// substitute a clock they advance themselves.
+  /// Wall clock (ns) for the tick's work; nullptr: monotonicNs. Tests substitute a clock they
+  /// advance themselves.
   std::uint64_t (*clock)() = nullptr;
   std::size_t command_capacity = 64;
   std::size_t telemetry_capacity = 4096;
   int shutdown_ticks = 50;  ///< damped ticks before backend stop() at shutdown
+  /// Real time: SCHED_FIFO priority of the planner thread and its workers (0: normal).
+  int planner_priority = 0;
 };
 
 class ControlLoop {
@@ -70,8 +72,11 @@ class ControlLoop {
   ControlLoop(const ControlLoop&) = delete;
   ControlLoop& operator=(const ControlLoop&) = delete;
 
-  /// Before run(): seat a planner (its thread starts here). nullptr leaves the slot empty.
+  /// Before run(): seat a planner (its thread starts here). nullptr leaves the slot empty. The
+  /// planner must outlive the loop, or be detached first.
   void attachPlanner(Planner* planner);
+  /// Not while run() runs: stops the planner's thread and empties the slot.
+  void detachPlanner();
 
   // ---- IO thread (single producer of commands, single consumer of replies and events) ----
   /// False if the command ring is full.
@@ -178,7 +183,8 @@ class ControlLoop {
   std::uint64_t (*clock_)();
   backend::TickTiming timing_;  // what the last advance() reported
   TickTimingStats timing_stats_;
-  std::uint64_t last_write_ns_ = 0;  // wall clock of the last command write
+  double last_write_time_ = 0.0;     // backend time of the last command write
+  bool have_written_ = false;
   std::uint64_t tick_start_ = 0;     // wall clock at the start of this tick
   LoopProfile profile_;
   double late_work_ = 0.0;           // work of the last late tick, s

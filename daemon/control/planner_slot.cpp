@@ -16,8 +16,10 @@ PlannerSlot::~PlannerSlot() {
   sem_destroy(&answer_);
 }
 
-void PlannerSlot::start(Planner* planner, double rate, bool lockstep, double latency) {
+void PlannerSlot::start(Planner* planner, double rate, bool lockstep, double latency,
+                        int priority) {
   planner_ = planner;
+  priority_ = priority;
   period_ = 1.0 / rate;
   lockstep_ = lockstep;
   latency_ = latency;
@@ -29,6 +31,14 @@ void PlannerSlot::stop() {
   stop_ = true;
   sem_post(&wake_);
   thread_.join();
+}
+
+void PlannerSlot::detach() {
+  stop();
+  planner_ = nullptr;
+  stop_ = false;
+  in_flight_ = 0;
+  have_output_ = false;
 }
 
 bool PlannerSlot::post(PlannerInput& input, double timeout_s) {
@@ -87,6 +97,11 @@ void failed(PlannerOutput& out, const char* what) {
 
 void PlannerSlot::run() {
   pthread_setname_np(pthread_self(), "ballast-planner");
+  if (priority_ > 0) {
+    sched_param param{};
+    param.sched_priority = priority_;
+    pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);  // refused: normal priority
+  }
   for (;;) {
     sem_wait(&wake_);
     if (stop_) return;

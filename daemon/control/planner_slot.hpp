@@ -45,8 +45,13 @@ class PlannerSlot {
 
   /// Attaches a planner and starts its thread (before the loop runs). lockstep: answers are
   /// taken `latency` s of controller time after their input (see the header comment).
-  void start(Planner* planner, double rate, bool lockstep, double latency);
+  /// priority > 0: the thread runs SCHED_FIFO at that priority (below the loop's), and so do
+  /// the threads it starts (the MPC's workers): in real time a busy machine must not starve the
+  /// plans (safety.max_plan_age). Where the system refuses, it runs at normal priority.
+  void start(Planner* planner, double rate, bool lockstep, double latency, int priority = 0);
   void stop();
+  /// Stops the thread and empties the seat (a planner may be started again).
+  void detach();
   bool available() const { return planner_ != nullptr; }
 
   // Loop side.
@@ -67,6 +72,7 @@ class PlannerSlot {
   double period_ = 0.01;
   bool lockstep_ = false;
   double latency_ = 0.0;
+  int priority_ = 0;
   std::uint64_t in_flight_ = 0;  // lockstep: the sequence whose answer is awaited (0: none)
   double use_at_ = 0.0;          // ... and the controller time it is taken at
   double next_due_ = 0.0;

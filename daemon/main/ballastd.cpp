@@ -224,6 +224,7 @@ int main(int argc, char** argv) {
   }
   control::LoopOptions options;
   options.lockstep = lockstep;
+  options.planner_priority = 60;  // below the loop's 80 (tryRealtime)
   options.telemetry_capacity = static_cast<std::size_t>(prof.integer("telemetry.ring_frames"));
   std::unique_ptr<control::ControlLoop> loop;
   try {

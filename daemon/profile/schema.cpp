@@ -173,7 +173,7 @@ const std::vector<Key> kTable = {
   number("safety.max_pose_tilt", "0.35", 0, 1.5, "rad", "largest standing roll or pitch `pose` may ask for"),
   number("safety.max_pose_yaw", "0.35", 0, 1.5, "rad", "largest standing yaw `pose` may ask for"),
   number("safety.max_plan_age", "0.1", 0.01, 1, "s", "a failed planner solve keeps the last plan; stand or walk on a plan older than this is a fault (damp)"),
-  number("safety.max_command_gap", "0.01", 0.002, 1, "s", "real time: the motors going longer than this (wall time) without a command is a fault (damp); a late tick alone is not"),
+  number("safety.max_command_gap", "0.01", 0.002, 1, "s", "real time: the motors going longer than this without a command (on the backend clock: the wall for hardware, the world for a simulation) is a fault (damp); a late tick alone is not"),
   number("safety.max_late_fraction", "0.2", 0, 1, "", "real time: more than this fraction of the last second's ticks late (their predecessor ran past the deadline) is a fault (damp)"),
   number("safety.max_push_force", "300", 0, 1e4, "N", "largest push (simulation)"),
   number("safety.max_push_duration", "5", 0, 60, "s", "longest push (simulation)"),

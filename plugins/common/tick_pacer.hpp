@@ -4,6 +4,10 @@
 // more than a period the schedule skips the periods already gone (the next tick is the one due
 // now), so a stall is never followed by a burst of short catch-up ticks.
 //
+// A simulation in real time pauses the schedule for its own computing beyond a share of the
+// period (pause()): a simulator that is momentarily slow falls behind the wall clock, as
+// real-time simulators do, instead of making the controller look late.
+//
 // The first kSettlingTicks after start() set the schedule (cold caches, page faults, the first
 // plan): a late one moves the schedule to now instead of counting, as a drive's start-up does.
 #pragma once
@@ -77,6 +81,11 @@ class TickPacer {
     now = monotonicNow();
     timing.lateness = secondsBetween(deadline, now);  // the wake-up latency
     return timing;
+  }
+  /// Moves every deadline from now on later by `seconds`: time that is not the tick's, such as
+  /// a simulator's own computing beyond its share of the period (its world waits meanwhile).
+  void pause(double seconds) {
+    if (seconds > 0.0) addSeconds(start_, seconds);
   }
   /// Ticks that could not sleep since start(), and periods skipped.
   std::uint64_t lateTicks() const { return late_; }

@@ -45,6 +45,9 @@
 // clock_nanosleep on CLOCK_MONOTONIC) and reports the tick's lateness; after a stall the
 // schedule skips the periods gone and the next advance() simulates them with the motors holding
 // their last command, so simulated time stays wall time, as the world does for a real robot.
+// The simulation's own computing beyond half a period pauses the schedule instead (the world
+// waits; simulated time falls behind the wall for a moment): a slow integrator step is the
+// simulator's, not the controller's, and must not look like a stalled host.
 // host_* keys inject host delays (a stall, jitter) before the pacing, to test the daemon's
 // deadline policy. The simulation itself runs at about 7-10x real time (test/bench/sim), so
 // the controller has most of each period.

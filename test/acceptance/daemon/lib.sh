@@ -77,7 +77,11 @@ healthy() {
 
 # The real-time schedule in one line (status timing).
 timing_line() {
-  echo "lateness p50 $(field timing.lateness_ms.p50) p99 $(field timing.lateness_ms.p99) max $(field timing.lateness_ms.max) ms over $(field timing.window_s) s; late ticks $(field timing.late_ticks) of $(field timing.ticks); skipped periods $(field timing.skipped_periods)"
+  awk -v p50="$(field timing.lateness_ms.p50)" -v p99="$(field timing.lateness_ms.p99)" \
+      -v max="$(field timing.lateness_ms.max)" -v w="$(field timing.window_s)" \
+      -v late="$(field timing.late_ticks)" -v n="$(field timing.ticks)" \
+      -v skipped="$(field timing.skipped_periods)" \
+      'BEGIN { printf "lateness p50 %.3f p99 %.3f max %.3f ms over %.1f s; late ticks %d of %d; skipped periods %d\n", p50, p99, max, w, late, n, skipped }'
 }
 
 stop_daemon() {

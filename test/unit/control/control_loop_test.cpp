@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "control/control_loop.hpp"
+#include "test/unit/control/attached_planner.hpp"
 #include "control/mpc_planner.hpp"
 #include "profile/settings.hpp"
 #include "test/unit/allocation_counter.hpp"
@@ -134,7 +135,7 @@ class CountingPlanner : public Planner {
 
 TEST_F(LoopOnFake, PlannerSlotRunsAtItsRateInControllerTimeWhileStanding) {
   CountingPlanner planner;
-  loop_->attachPlanner(&planner);
+  const AttachedPlanner attached(*loop_, planner);
   ticks(300);
   EXPECT_TRUE(loop_->status().planner_available);
   EXPECT_EQ(planner.calls.load(), 0);  // passive: nothing to plan
@@ -165,7 +166,7 @@ class FailingPlanner : public Planner {
 TEST_F(LoopOnFake, APlannerFailureKeepsTheLastPlanUntilItIsTooOld) {
   MpcPlanner mpc(test::humanoid(), settings_, std::make_shared<const terrain::HeightMap>());
   FailingPlanner planner(mpc);
-  loop_->attachPlanner(&planner);
+  const AttachedPlanner attached(*loop_, planner);
   ASSERT_TRUE(standUp());
   ticks(100);
   LoopEvent e;
@@ -232,7 +233,7 @@ TEST_F(NoAllocation, StandAndWalkUnderTheWholeBodyControllerAllocateNothing) {
   // The real planner on its thread (which may allocate); the loop samples its plans and runs
   // the whole-body controller on them.
   MpcPlanner planner(test::humanoid(), settings_, std::make_shared<const terrain::HeightMap>());
-  loop_->attachPlanner(&planner);
+  const AttachedPlanner attached(*loop_, planner);
   ASSERT_TRUE(standUp());
   ticks(20);  // the first plans: the walking controller takes over from the standing one
   OperatorCommand c;

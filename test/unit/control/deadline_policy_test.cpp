@@ -3,7 +3,8 @@
 // safety.max_command_gap and more than safety.max_late_fraction of the last second's ticks
 // late. An exception in the control or planner thread is a fault, the motors are damped and the
 // daemon goes on. The loop runs in real-time mode on the fake backend with a scripted schedule
-// and a wall clock the test advances itself, so every case is exact.
+// and clocks the test advances itself (the wall clock, and the backend's through skipped
+// periods), so every case is exact.
 #include <gtest/gtest.h>
 
 #include <cstring>
@@ -13,6 +14,7 @@
 #include <vector>
 
 #include "control/control_loop.hpp"
+#include "test/unit/control/attached_planner.hpp"
 #include "profile/settings.hpp"
 #include "test/unit/test_support.hpp"
 
@@ -39,13 +41,16 @@ class ScriptedBackend final : public backend::Backend {
       throw_on_read = false;
       throw std::runtime_error("injected: the bus driver threw");
     }
-    return inner_.read(s);
+    const backend::Status status = inner_.read(s);
+    s.time += skipped_time_;  // the backend's clock went on through the skipped periods
+    return status;
   }
   backend::Status write(const backend::Commands& c) override { return inner_.write(c); }
   backend::Status advance(backend::TickTiming& timing) override {
     const backend::Status s = inner_.advance(timing);  // the fake in lockstep: timing zero
     timing = next ? next() : backend::TickTiming{};
     g_clock += static_cast<std::uint64_t>((0.001 + timing.lateness) * 1e9);
+    skipped_time_ += 0.001 * timing.skipped;
     return s;
   }
   const backend::Error& lastError() const override { return inner_.lastError(); }
@@ -56,6 +61,7 @@ class ScriptedBackend final : public backend::Backend {
 
  private:
   backend::Backend& inner_;
+  double skipped_time_ = 0.0;
 };
 
 backend::TickTiming lateBy(double seconds) {
@@ -232,7 +238,7 @@ class ThrowingPlanner : public Planner {
 TEST_F(DeadlinePolicy, AnExceptionInThePlannerThreadIsAFault) {
   make(true);  // lockstep: the answer comes within the tick that posts
   ThrowingPlanner planner;
-  loop_->attachPlanner(&planner);
+  const AttachedPlanner attached(*loop_, planner);
   ticks(50);
   const Fault* f = fault(FaultKind::kException);
   ASSERT_NE(f, nullptr);
