@@ -200,7 +200,8 @@ void ControlLoop::tick() {
 
   const std::uint64_t planner_start = clock_();
   planPost();
-  profile_.planner += secondsSince(planner_start);
+  tick_profile_.planner = secondsSince(planner_start);
+  profile_.planner += tick_profile_.planner;
 
   const Mode mode = shutting_down_ ? Mode::kDamp : modes_.mode();
   if (mode != last_mode_) {
@@ -213,7 +214,8 @@ void ControlLoop::tick() {
   const std::uint64_t controller_start = clock_();
   computeCommands();
   wbc_ms_ = secondsSince(controller_start) * 1e3;
-  profile_.controller += wbc_ms_ * 1e-3;
+  tick_profile_.controller = wbc_ms_ * 1e-3;
+  profile_.controller += tick_profile_.controller;
   guardCommands();
   writeCommands();
 
@@ -228,6 +230,8 @@ void ControlLoop::tick() {
   const std::uint64_t advance_start = clock_();
   backendStatus(backend_.advance(timing_), "advance");
   const double backend = options_.lockstep ? secondsSince(advance_start) : timing_.work;
+  tick_profile_.backend = backend;
+  tick_profile_.total = work + timing_.work;
   profile_.backend += backend;
   profile_.total += work + backend;
   keepSchedule(work + timing_.work);
@@ -238,8 +242,22 @@ void ControlLoop::keepSchedule(double work) {
   if (options_.lockstep) return;
   timing_stats_.record(timing_, work);
   if (timing_.late) {
-    // Counted and shown, not a fault by itself; logged at most every 10 s of controller time.
+    // Counted and shown, not a fault by itself; logged at most every 10 s of controller time,
+    // a stall (periods skipped) at most every second unless it is long, with where the tick's
+    // time went.
     late_work_ = work;
+    if (timing_.skipped > 0 && (t_ >= next_stall_warning_ || timing_.lateness > 5.0 * period_)) {
+      next_stall_warning_ = t_ + 1.0;
+      const LoopProfile& p = tick_profile_;
+      std::snprintf(message_, sizeof(message_),
+                    "stalled tick: began %.2f ms after its deadline, %u periods skipped; the tick "
+                    "before worked %.2f ms: estimator %.2f, planner %.2f, controller %.2f, "
+                    "backend %.2f (the rest %.2f)",
+                    timing_.lateness * 1e3, timing_.skipped, work * 1e3, p.estimator * 1e3,
+                    p.planner * 1e3, p.controller * 1e3, timing_.work * 1e3,
+                    (work - p.estimator - p.planner - p.controller - timing_.work) * 1e3);
+      event(true, message_);
+    }
     if (t_ >= next_late_warning_) {
       next_late_warning_ = t_ + 10.0;
       const TimingSummary m = timing_stats_.summary();
@@ -394,7 +412,8 @@ void ControlLoop::readSensors() {
   }
   const std::uint64_t estimator_start = clock_();
   sensors_ok_ = estimator_.update(sensors_, q_, dq_, tau_, scheduled, terrain, input_.state);
-  profile_.estimator += secondsSince(estimator_start);
+  tick_profile_.estimator = secondsSince(estimator_start);
+  profile_.estimator += tick_profile_.estimator;
   // A localisation fix bounds the drift of leg odometry (the next update shows it).
   if (sensors_ok_ && sensors_.position_fix.fresh && settings_->use_position_fix &&
       backend_.capabilities().position_fix && estimator_.correctPosition(sensors_.position_fix))

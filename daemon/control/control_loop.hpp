@@ -187,6 +187,8 @@ class ControlLoop {
   bool have_written_ = false;
   std::uint64_t tick_start_ = 0;     // wall clock at the start of this tick
   LoopProfile profile_;
+  LoopProfile tick_profile_;         // the last tick's share of each part
+  double next_stall_warning_ = 0.0;  // controller time
   double late_work_ = 0.0;           // work of the last late tick, s
   double next_late_warning_ = 0.0;   // controller time
   std::uint64_t settings_generation_ = 0;
