@@ -17,6 +17,7 @@
 #include <sys/mman.h>
 #include <sys/resource.h>
 #include <sys/syscall.h>
+#include <sys/utsname.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -24,6 +25,7 @@
 #include <atomic>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <thread>
@@ -91,6 +93,26 @@ void lockMemory() {
   mallopt(M_TRIM_THRESHOLD, -1);
   mallopt(M_MMAP_MAX, 0);
   spdlog::info("memory locked (mlockall)");
+}
+
+/// Whether the kernel can preempt itself for the control thread. Without PREEMPT_RT (or
+/// preempt=full) another process's time in the kernel (a compiler's page faults, a large exit)
+/// holds off even the highest-priority thread for milliseconds: cyclictest shows the same stalls
+/// as the loop's timing. Said once at start, so a stall in the log can be told from our own.
+void reportKernelPreemption() {
+  std::ifstream realtime("/sys/kernel/realtime");
+  int rt = 0;
+  if (realtime >> rt && rt == 1) {
+    spdlog::info("kernel: PREEMPT_RT");
+    return;
+  }
+  utsname name{};
+  uname(&name);
+  spdlog::warn(
+      "kernel {} is not PREEMPT_RT ({}): kernel work of other processes can delay the control "
+      "thread by milliseconds whatever its priority; measure with cyclictest (ballastd(8), REAL "
+      "TIME)",
+      name.release, name.version);
 }
 
 }  // namespace
@@ -261,7 +283,10 @@ int main(int argc, char** argv) {
                BALLAST_VERSION, prof.name(), caps.name, caps.simulation ? "simulation" : "hardware",
                lockstep ? ", lockstep" : "", plugin->path(), model->name, model->nj(),
                ctx.settings->rate);
-  if (!lockstep) lockMemory();
+  if (!lockstep) {
+    lockMemory();
+    reportKernelPreemption();
+  }
   std::atomic<bool> stop{false};
   std::thread control([&] { loop->run(stop); });
   if (!lockstep) tryRealtime(control);

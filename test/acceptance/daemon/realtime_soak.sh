@@ -46,5 +46,6 @@ awk -F '\t' '
 awk '{ v[NR] = $1 } END {
   printf "whole run: %d ticks, lateness p50 %.3f p99 %.3f p99.9 %.3f max %.3f ms\n",
     NR, v[int(NR * 0.5)], v[int(NR * 0.99)], v[int(NR * 0.999)], v[NR] }' "$WORK/lateness"
+echo "daemon warnings:"; grep -E 'warning|error' "$LOG" | tail -20 || true
 stop_daemon
 echo "ok: $SECONDS_TOTAL s in real time, never damped"
