@@ -95,3 +95,15 @@ stop_daemon() {
 calc() { awk "BEGIN { print $1 }"; }
 # within VALUE TARGET FRACTION: |value - target| <= fraction * |target|
 within() { awk -v a="$1" -v b="$2" -v f="$3" 'BEGIN { d = a - b; if (d < 0) d = -d; t = b < 0 ? -b : b; exit !(d <= f * t) }'; }
+
+# never_damped: fails when the robot is damped or has fallen (the faults named)
+never_damped() {
+  [ "$(field mode)" != damp ] || fail "damped at t=$(field t): $(field faults)"
+  [ "$(field fallen)" = false ] || fail "fell at t=$(field t)"
+}
+
+# for_seconds S: S s of controller time (wall time in real time), never_damped at every poll
+for_seconds() {
+  t_end=$(calc "$(field t) + $1")
+  until time_after "$t_end" 0; do never_damped; sleep 0.1; done
+}

@@ -8,16 +8,6 @@ BALLAST_ACCEPTANCE_REALTIME=1
 . "$(dirname "$0")/lib.sh"
 VX=$4
 
-never_damped() {
-  [ "$(field mode)" != damp ] || fail "damped: $(field faults)"
-  [ "$(field fallen)" = false ] || fail "fell"
-}
-# for_seconds S: S s of controller time (= wall time here), checking every poll
-for_seconds() {
-  t_end=$(calc "$(field t) + $1")
-  until time_after "$t_end" 0; do never_damped; sleep 0.1; done
-}
-
 start_daemon
 wait_until "stand" 30 mode_is stand
 for_seconds 1
