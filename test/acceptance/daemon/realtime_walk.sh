@@ -1,6 +1,7 @@
 #!/bin/sh
 # Real time (issue 12 §2): ballastd without --lockstep, the whole controller (estimator, planner
-# thread, whole-body controller) on the Simbody robot: stand, walk at VX for 20 s, stand again.
+# thread, whole-body controller) on the Simbody robot: stand, pose the base and back, walk at VX
+# for 20 s, stand again.
 # Never damped, never fallen; the forward velocity over the walk's last 10 s within 10 % of the
 # command (ground truth). Prints the schedule's figures (status timing).
 # Usage: realtime_walk.sh BALLASTD BALLAST PROFILE VX
@@ -10,6 +11,11 @@ VX=$4
 
 start_daemon
 wait_until "stand" 30 mode_is stand
+ballast pose --height 0.83 --pitch 3deg >/dev/null || fail "pose"
+wait_until "the base at 0.83 m" 10 near base.position.2 0.83 0.01
+wait_until "the base pitched 3 deg" 10 near base.rpy.1 0.0524 0.01
+ballast pose >/dev/null || fail "pose back to nominal"
+wait_until "the nominal height" 10 near base.position.2 0.89 0.01
 for_seconds 1
 ballast walk --vx "$VX" --for 20s >/dev/null || fail "walk"
 wait_until "the loop to take the walk command" 10 mode_is walk
