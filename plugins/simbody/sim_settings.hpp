@@ -1,6 +1,7 @@
 // The simbody backend's profile section: every key it accepts, declared once in a table
 // (simSettingKeys(), sim_settings.cpp) with its type, default, bounds and one line of doc,
-// parsed and validated by the plugins' section parser (plugins/common/section_settings.hpp):
+// parsed and validated by the schema engine ballastd's profile uses too
+// (plugins/common/settings_schema.hpp):
 // errors read `file:line:column: key: what is wrong`; unknown keys (with a "did you mean" for
 // typos), keys given twice, wrong types and out-of-range values are errors.
 //
@@ -78,7 +79,7 @@
 //
 //   Initial state (start())
 //   initial_posture               choice  stand          stand|zero     stand: *hip_pitch -0.4, *knee 0.8, *ankle_pitch -(hip_pitch + knee) so the soles are level, others 0; zero: all 0
-//   initial_joints                joints  {}             [-6.28319, 6.28319] joint name -> angle (rad) overriding the posture; within the URDF limits
+//   initial_joints                map     {}             [-6.28319, 6.28319] joint name -> angle (rad) overriding the posture; within the URDF limits
 //   initial_xy                    vec2    [0, 0]         [-10000, 10000] base position (m) over the terrain
 //   initial_yaw                   number  0              [-6.28319, 6.28319] base heading (rad)
 //   initial_clearance             number  0              [0, 1000]      gap (m) between the lowest contact sphere and the terrain under it (0: touching)
@@ -97,16 +98,18 @@
 #include <string>
 #include <vector>
 
-#include "section_settings.hpp"
+#include <array>
+
+#include "settings_schema.hpp"
 
 namespace ballast::simbody {
 
-using plugin::SettingsError;
-using Vec3d = plugin::Vec3d;
-using JointAngles = plugin::NamedNumbers;
+using schema::SettingsError;
+using Vec3d = std::array<double, 3>;
+using JointAngles = schema::NamedNumbers;
 
 /// The parsed section. Field names are the keys with '.' replaced by '_'.
-struct SimSettings : plugin::SectionLocations {
+struct SimSettings : schema::Locations {
   double friction, friction_stiffness, friction_damping, contact_stiffness, contact_dissipation;
   double foot_sphere_radius, foot_width;
   bool body_contact;
@@ -145,7 +148,7 @@ struct SimSettings : plugin::SectionLocations {
   double host_stall_at, host_stall, host_jitter_from, host_jitter_fraction, host_jitter;
 };
 
-using SettingKey = plugin::SettingKey<SimSettings>;
+using SettingKey = schema::Row<SimSettings>;
 
 /// The table of keys, in documentation order.
 const std::vector<SettingKey>& simSettingKeys();

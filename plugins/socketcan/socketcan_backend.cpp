@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 
+#include "format.hpp"       // plugins/common
 #include "urdf_joints.hpp"  // plugins/common
 
 namespace ballast::socketcan {
@@ -253,7 +254,7 @@ bool SocketcanBackend::start(backend::Error& error) {
   };
   if (!sequence(MitSpecial::kEnable, settings_.enable_timeout))
     return failWith("socketcan: no answer to the enable command within " +
-                    plugin::SectionCursor::formatNumber(settings_.enable_timeout) + " s from " +
+                    formatNumber(settings_.enable_timeout) + " s from " +
                     motorList(silent) + ": check power, wiring, ids and bus bit rate" + busTrouble());
   if (settings_.zero_on_start && !sequence(MitSpecial::kZero, settings_.enable_timeout))
     return failWith("socketcan: no answer to the zero command from " + motorList(silent) + busTrouble());
@@ -262,7 +263,7 @@ bool SocketcanBackend::start(backend::Error& error) {
     return failWith("socketcan: no sample from the IMU (" +
                     settings_.buses[static_cast<std::size_t>(settings_.imuBusIndex)] + " ids " +
                     std::to_string(settings_.imu_id) + ".." + std::to_string(settings_.imu_id + 2) +
-                    ") within " + plugin::SectionCursor::formatNumber(settings_.enable_timeout) +
+                    ") within " + formatNumber(settings_.enable_timeout) +
                     " s" + busTrouble());
   started_ = true;
   copyMessage(lastError_, "");

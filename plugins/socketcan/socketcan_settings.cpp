@@ -8,28 +8,28 @@
 namespace ballast::socketcan {
 namespace {
 
-constexpr double kNone = 0.0;
 constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
 
 using S = SocketcanSettings;
-using K = plugin::KeyType;
+using R = schema::Rule<SocketcanSettings>;
+using namespace schema;  // the row declarations
 
 // A motor entry's keys, and the ranges it may set (NaN until filled from ranges.*).
 const std::vector<std::string> kMotorKeys = {"bus", "id", "position", "velocity", "torque",
                                              "kp", "kd", "direction", "offset"};
 
-void parseMotors(S& s, const YAML::Node& node, const plugin::SectionCursor& c) {
+void parseMotors(S& s, const YAML::Node& node, const schema::Cursor& c) {
   s.motors.clear();
   if (node.IsNull()) return;
   if (!node.IsMap())
     c.fail(node.Mark(), "motors", "expected a map of URDF joint: {bus, id, ...}, got " +
-                                      plugin::SectionCursor::describe(node));
+                                      schema::describe(node));
   for (const auto& e : node) {
     const std::string joint = e.first.Scalar();
     const std::string key = "motors." + joint;
     const YAML::Node& m = e.second;
     if (!m.IsMap())
-      c.fail(m.Mark(), key, "expected {bus: ..., id: ...}, got " + plugin::SectionCursor::describe(m));
+      c.fail(m.Mark(), key, "expected {bus: ..., id: ...}, got " + schema::describe(m));
     c.checkKeys(m, kMotorKeys, key);
     c.record(key, e.first.Mark());
     MotorEntry motor;
@@ -60,56 +60,6 @@ void parseMotors(S& s, const YAML::Node& node, const plugin::SectionCursor& c) {
   }
 }
 
-// clang-format off
-const std::vector<SettingKey> kKeys = {
-  // name, type, default, min, max, choices, group, doc, field
-  {"buses", K::kStrings, "[can0]", kNone, kNone, "", "Buses",
-   "CAN interfaces (\"can0\"), or fd:N for an emulated bus (an open SOCK_SEQPACKET socket carrying struct can_frame); at most 16",
-   &S::buses},
-  {"bitrate", K::kNumber, "1000000", 1e4, 1e6, "", "Buses",
-   "bits per second of every bus (classic CAN)", &S::bitrate},
-  {"max_bus_load", K::kNumber, "0.8", 0.1, 1, "", "Buses",
-   "largest share of a bus's time one tick's frames may take (configure refuses more; emulated buses have no limit)",
-   &S::max_bus_load},
-  {"host_id", K::kInteger, "0", 0, 2047, "", "Buses", "CAN id the motors reply to", &S::host_id},
-  {"reply_timeout", K::kNumber, "0.003", 0.0005, 1, "", "Buses",
-   "a motor silent this long (s) is a fault (damp)", &S::reply_timeout},
-  {"enable_timeout", K::kNumber, "0.5", 0.01, 10, "", "Buses",
-   "start(): how long (s) every motor has to answer the enable command", &S::enable_timeout},
-  {"lockstep_timeout", K::kNumber, "2", 0.01, 60, "", "Buses",
-   "lockstep (emulated buses): wall time (s) a tick waits for every reply", &S::lockstep_timeout},
-  {"zero_on_start", K::kBool, "false", kNone, kNone, "", "Buses",
-   "start(): set every motor's present position as its zero (calibration pose only)", &S::zero_on_start},
-  {"disable_on_stop", K::kBool, "true", kNone, kNone, "", "Buses",
-   "stop(): take every motor out of motor mode", &S::disable_on_stop},
-  {"log", K::kString, "\"\"", kNone, kNone, "", "Buses",
-   "candump-format log of every frame sent and received (\"\": none)", &S::log},
-
-  {"imu.enabled", K::kBool, "true", kNone, kNone, "", "IMU",
-   "an IMU on the bus (imu_protocol.hpp); without it there is no estimate", &S::imu_enabled},
-  {"imu.bus", K::kString, "\"\"", kNone, kNone, "", "IMU", "its bus (\"\": the first)", &S::imu_bus},
-  {"imu.id", K::kInteger, "256", 1, 2045, "", "IMU",
-   "CAN id of its first frame (it uses id, id + 1, id + 2)", &S::imu_id},
-  {"imu.timeout", K::kNumber, "0.005", 0.001, 1, "", "IMU",
-   "an IMU silent this long (s) is a fault (damp)", &S::imu_timeout},
-
-  {"ranges.position", K::kNumber, "12.5", 0.1, 1000, "", "Motor ranges (defaults of every motor's)",
-   "±rad the MIT position field spans", &S::ranges_position},
-  {"ranges.velocity", K::kNumber, "45", 0.1, 1000, "", "Motor ranges (defaults of every motor's)",
-   "±rad/s of the velocity field", &S::ranges_velocity},
-  {"ranges.torque", K::kNumber, "0", 0, 10000, "", "Motor ranges (defaults of every motor's)",
-   "±N·m of the torque field: the motor firmware's T_MAX (0: each motor must give its own)",
-   &S::ranges_torque},
-  {"ranges.kp", K::kNumber, "500", 0.1, 1e5, "", "Motor ranges (defaults of every motor's)",
-   "N·m/rad the kp field spans from 0", &S::ranges_kp},
-  {"ranges.kd", K::kNumber, "5", 0.01, 1e4, "", "Motor ranges (defaults of every motor's)",
-   "N·m·s/rad the kd field spans from 0", &S::ranges_kd},
-
-  {"motors", K::kCustom, "{}", kNone, kNone, "", "Motors",
-   "URDF joint -> {bus, id, position, velocity, torque, kp, kd, direction (1 or -1), offset (rad)}; every movable joint needs one",
-   {}, &parseMotors},
-};
-// clang-format on
 
 int busIndex(const S& s, const std::string& bus) {
   for (std::size_t i = 0; i < s.buses.size(); ++i)
@@ -123,20 +73,62 @@ std::string busList(const S& s) {
   return list;
 }
 
-void checkAcrossKeys(S& s) {
-  if (s.buses.empty()) throw SettingsError(s.where("buses") + "needs at least one bus");
-  if (static_cast<int>(s.buses.size()) > kMaxBuses)
-    throw SettingsError(s.where("buses") + "at most " + std::to_string(kMaxBuses) + " buses");
-  for (std::size_t i = 0; i < s.buses.size(); ++i)
-    for (std::size_t j = 0; j < i; ++j)
-      if (s.buses[i] == s.buses[j])
-        throw SettingsError(s.where("buses") + s.buses[i] + " is listed twice");
+// Documentation groups.
+constexpr const char* kBuses = "Buses";
+constexpr const char* kImu = "IMU";
+constexpr const char* kRanges = "Motor ranges (defaults of every motor's)";
+constexpr const char* kMotors = "Motors";
+
+// clang-format off
+const Schema<SocketcanSettings> kSchema({
+  strings("buses", "[can0]", "CAN interfaces (\"can0\"), or fd:N for an emulated bus (an open SOCK_SEQPACKET socket carrying struct can_frame); at most 16").inGroup(kBuses).into<&S::buses>(),
+  number("bitrate", "1000000", 1e4, 1e6, "", "bits per second of every bus (classic CAN)").inGroup(kBuses).into<&S::bitrate>(),
+  number("max_bus_load", "0.8", 0.1, 1, "", "largest share of a bus's time one tick's frames may take (configure refuses more; emulated buses have no limit)").inGroup(kBuses).into<&S::max_bus_load>(),
+  integer("host_id", "0", 0, 2047, "", "CAN id the motors reply to").inGroup(kBuses).into<&S::host_id>(),
+  number("reply_timeout", "0.003", 0.0005, 1, "", "a motor silent this long (s) is a fault (damp)").inGroup(kBuses).into<&S::reply_timeout>(),
+  number("enable_timeout", "0.5", 0.01, 10, "", "start(): how long (s) every motor has to answer the enable command").inGroup(kBuses).into<&S::enable_timeout>(),
+  number("lockstep_timeout", "2", 0.01, 60, "", "lockstep (emulated buses): wall time (s) a tick waits for every reply").inGroup(kBuses).into<&S::lockstep_timeout>(),
+  flag("zero_on_start", "false", "start(): set every motor's present position as its zero (calibration pose only)").inGroup(kBuses).into<&S::zero_on_start>(),
+  flag("disable_on_stop", "true", "stop(): take every motor out of motor mode").inGroup(kBuses).into<&S::disable_on_stop>(),
+  text("log", "\"\"", "candump-format log of every frame sent and received (\"\": none)").inGroup(kBuses).into<&S::log>(),
+  flag("imu.enabled", "true", "an IMU on the bus (imu_protocol.hpp); without it there is no estimate").inGroup(kImu).into<&S::imu_enabled>(),
+  text("imu.bus", "\"\"", "its bus (\"\": the first)").inGroup(kImu).into<&S::imu_bus>(),
+  integer("imu.id", "256", 1, 2045, "", "CAN id of its first frame (it uses id, id + 1, id + 2)").inGroup(kImu).into<&S::imu_id>(),
+  number("imu.timeout", "0.005", 0.001, 1, "", "an IMU silent this long (s) is a fault (damp)").inGroup(kImu).into<&S::imu_timeout>(),
+  number("ranges.position", "12.5", 0.1, 1000, "", "±rad the MIT position field spans").inGroup(kRanges).into<&S::ranges_position>(),
+  number("ranges.velocity", "45", 0.1, 1000, "", "±rad/s of the velocity field").inGroup(kRanges).into<&S::ranges_velocity>(),
+  number("ranges.torque", "0", 0, 10000, "", "±N·m of the torque field: the motor firmware's T_MAX (0: each motor must give its own)").inGroup(kRanges).into<&S::ranges_torque>(),
+  number("ranges.kp", "500", 0.1, 1e5, "", "N·m/rad the kp field spans from 0").inGroup(kRanges).into<&S::ranges_kp>(),
+  number("ranges.kd", "5", 0.01, 1e4, "", "N·m·s/rad the kd field spans from 0").inGroup(kRanges).into<&S::ranges_kd>(),
+  custom("motors", "{}", "URDF joint -> {bus, id, position, velocity, torque, kp, kd, direction (1 or -1), offset (rad)}; every movable joint needs one").inGroup(kMotors).custom<S>(&parseMotors),
+  // Across keys (the motors' own checks follow in finish()).
+  R{"buses", [](const S& s) { return s.buses.empty() ? std::string("needs at least one bus") : ""; }},
+  R{"buses", [](const S& s) {
+      return static_cast<int>(s.buses.size()) > kMaxBuses
+                 ? "at most " + std::to_string(kMaxBuses) + " buses" : std::string();
+    }},
+  R{"buses", [](const S& s) {
+      for (std::size_t i = 0; i < s.buses.size(); ++i)
+        for (std::size_t j = 0; j < i; ++j)
+          if (s.buses[i] == s.buses[j]) return s.buses[i] + " is listed twice";
+      return std::string();
+    }},
+  R{"imu.bus", [](const S& s) {
+      return !s.imu_bus.empty() && busIndex(s, s.imu_bus) < 0
+                 ? s.imu_bus + " is not one of buses (" + busList(s) + ")" : std::string();
+    }},
+  R{"host_id", [](const S& s) {
+      return s.imu_enabled && s.host_id >= s.imu_id && s.host_id <= s.imu_id + 2
+                 ? std::to_string(s.host_id) + " is one of the IMU's ids (" + std::to_string(s.imu_id) +
+                       ".." + std::to_string(s.imu_id + 2) + ")"
+                 : std::string();
+    }},
+});
+// clang-format on
+
+/// What the rules leave: indices of the buses named, every motor's ranges, the motors' checks.
+void finish(S& s) {
   s.imuBusIndex = s.imu_bus.empty() ? 0 : busIndex(s, s.imu_bus);
-  if (s.imuBusIndex < 0)
-    throw SettingsError(s.where("imu.bus") + s.imu_bus + " is not one of buses (" + busList(s) + ")");
-  if (s.imu_enabled && s.host_id >= s.imu_id && s.host_id <= s.imu_id + 2)
-    throw SettingsError(s.where("host_id") + std::to_string(s.host_id) + " is one of the IMU's ids (" +
-                        std::to_string(s.imu_id) + ".." + std::to_string(s.imu_id + 2) + ")");
   std::set<std::pair<int, int>> used;  // (bus, id)
   std::set<std::string> joints;
   for (MotorEntry& m : s.motors) {
@@ -168,15 +160,15 @@ void checkAcrossKeys(S& s) {
 
 }  // namespace
 
-const std::vector<SettingKey>& socketcanSettingKeys() { return kKeys; }
+const std::vector<SettingKey>& socketcanSettingKeys() { return kSchema.rows(); }
 
 SocketcanSettings parseSocketcanSettings(const std::string& yaml, const std::string& origin) {
-  SocketcanSettings s = plugin::parseSection(kKeys, yaml, origin, "the socketcan backend section");
-  checkAcrossKeys(s);
+  SocketcanSettings s = schema::parseSection(kSchema, yaml, origin, "the socketcan backend section");
+  finish(s);
   return s;
 }
 
-std::string socketcanSettingsReference() { return plugin::sectionReference(kKeys); }
+std::string socketcanSettingsReference() { return schema::textReference(kSchema.keys()); }
 
 void checkBusLoad(const SocketcanSettings& s, double period) {
   // Classic CAN, 11-bit ids, without stuffing: 47 bits + 8 per data byte (with the interframe

@@ -1,6 +1,6 @@
 // The socketcan backend's profile section: every key declared once in a table
 // (socketcanSettingKeys(), socketcan_settings.cpp) with type, default, bounds and doc, parsed by
-// the plugins' section parser: errors read `file:line:column: key: what is wrong`.
+// the schema engine the daemon's profile uses (plugins/common/settings_schema.hpp): errors read `file:line:column: key: what is wrong`.
 //
 // Example (the humanoid on two buses; every key but motors has a default):
 //
@@ -60,11 +60,11 @@
 #include <vector>
 
 #include "mit_protocol.hpp"
-#include "section_settings.hpp"
+#include "settings_schema.hpp"
 
 namespace ballast::socketcan {
 
-using plugin::SettingsError;
+using schema::SettingsError;
 
 struct MotorEntry {
   std::string joint;
@@ -78,7 +78,7 @@ struct MotorEntry {
 
 inline constexpr int kMaxBuses = 16;
 
-struct SocketcanSettings : plugin::SectionLocations {
+struct SocketcanSettings : schema::Locations {
   std::vector<std::string> buses;
   double bitrate, max_bus_load;
   int host_id;
@@ -95,7 +95,7 @@ struct SocketcanSettings : plugin::SectionLocations {
   int imuBusIndex = 0;
 };
 
-using SettingKey = plugin::SettingKey<SocketcanSettings>;
+using SettingKey = schema::Row<SocketcanSettings>;
 const std::vector<SettingKey>& socketcanSettingKeys();
 
 /// Parses and validates the section (buses named by motors and the IMU exist, ids unique per

@@ -76,7 +76,7 @@ TEST(SimSettings, ErrorsSayFileLineColumnKeyAndWhatIsWrong) {
   EXPECT_EQ(errorOf("accuracy: .nan\n"),
             "sim.yaml:10:11: accuracy: .nan is out of range [1e-08, 0.1]");
   EXPECT_EQ(errorOf("motor_latency_ticks: 1.5\n"),
-            "sim.yaml:10:22: motor_latency_ticks: expected an integer, got 1.5");
+            "sim.yaml:10:22: motor_latency_ticks: expected an integer, got '1.5'");
   EXPECT_EQ(errorOf("floor: maybe\n"), "sim.yaml:10:8: floor: expected true or false, got 'maybe'");
   EXPECT_EQ(errorOf("integrator: euler\n"),
             "sim.yaml:10:13: integrator: expected one of "
@@ -85,7 +85,8 @@ TEST(SimSettings, ErrorsSayFileLineColumnKeyAndWhatIsWrong) {
             "sim.yaml:10:10: gravity: expected a list of 3 numbers, got a list of 2");
   EXPECT_EQ(errorOf("gravity: [0, 0, -200]\n"),
             "sim.yaml:10:17: gravity[2]: -200 is out of range [-100, 100]");
-  EXPECT_EQ(errorOf("imu: 3\n"), "sim.yaml:10:6: imu: expected a map of imu.* keys");
+  EXPECT_EQ(errorOf("imu: 3\n"),
+            "sim.yaml:10:6: imu: is a section: expected a map of its keys, got '3'");
   EXPECT_EQ(errorOf("initial_joints: {left_knee: 9}\n"),
             "sim.yaml:10:29: initial_joints.left_knee: 9 is out of range [-6.28319, 6.28319]");
   EXPECT_EQ(errorOf("lidar: {vertical_min: 0.5, vertical_max: 0.1}\n"),

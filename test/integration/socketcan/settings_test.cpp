@@ -176,7 +176,7 @@ TEST(SocketcanSettings, TheHeaderCommentListsEveryKeyWithItsDefault) {
       words >> slashes >> name >> type >> value;
       if (slashes == "//" && name == key.name) {
         found = true;
-        EXPECT_EQ(type, plugin::typeName(key.type)) << key.name;
+        EXPECT_EQ(type, key.shortType()) << key.name;
         EXPECT_EQ(value, key.defaultYaml) << key.name;
       }
     }
