@@ -21,8 +21,7 @@
 namespace ballast::control {
 
 inline constexpr int kMaxJoints = backend::kMaxJoints;
-/// The paper's four contact points: toe and heel of each foot (robot.contact_frames).
-inline constexpr int kNumContacts = 4;
+using model::kNumContacts;
 /// Priority levels of the whole-body controller (paper, Table I).
 inline constexpr int kNumPriorityLevels = 4;
 inline constexpr int kMessageLength = 200;

@@ -3,16 +3,13 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/format.hpp"  // plugins/common
+
 namespace ballast::estimation {
 
 namespace {
 using S = EstimatorSettings;
 
-std::string number(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", x);
-  return buf;
-}
 }  // namespace
 
 const std::vector<EstimatorNumberKey>& estimatorNumberKeys() {
@@ -58,12 +55,12 @@ std::string validateSettings(const EstimatorSettings& s, const model::Model& mod
   for (const EstimatorNumberKey& k : estimatorNumberKeys()) {
     const double x = s.*k.field;
     if (!std::isfinite(x) || x < k.min || x > k.max)
-      return std::string("estimator.") + k.key + ": must be in [" + number(k.min) + ", " +
-             number(k.max) + "]" + (k.unit[0] ? std::string(" ") + k.unit : std::string()) +
-             ", got " + number(x);
+      return std::string("estimator.") + k.key + ": must be in [" + formatNumber(k.min) + ", " +
+             formatNumber(k.max) + "]" + (k.unit[0] ? std::string(" ") + k.unit : std::string()) +
+             ", got " + formatNumber(x);
   }
   if (!std::isfinite(s.period) || s.period <= 0.0 || s.period > 0.1)
-    return "control.rate: the estimator needs a period in (0, 0.1] s, got " + number(s.period);
+    return "control.rate: the estimator needs a period in (0, 0.1] s, got " + formatNumber(s.period);
 
   const int imu = model.findFrame(s.imuFrame);
   if (imu < 0)

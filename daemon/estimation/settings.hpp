@@ -12,12 +12,13 @@
 #include <string>
 #include <vector>
 
+#include "model/contact_points.hpp"
 #include "model/model.hpp"
 
 namespace ballast::estimation {
 
-/// The paper's four contact points (toe and heel of each foot); the filter state has 3 per point.
-inline constexpr int kContactPoints = 4;
+/// The contact points the filter state has 3 coordinates of.
+inline constexpr int kContactPoints = model::kNumContacts;
 
 struct EstimatorSettings {
   // The robot (names as in the URDF).

@@ -3,13 +3,13 @@
 
 #include <array>
 
+#include "model/contact_points.hpp"
+
 namespace ballast::gait {
 
-inline constexpr int kNumContacts = 4;
+using model::kContactFrameNames;
+using model::kNumContacts;
 enum Contact : int { kLeftToe = 0, kLeftHeel = 1, kRightToe = 2, kRightHeel = 3 };
-/// URDF frame names, in Contact order.
-inline constexpr std::array<const char*, kNumContacts> kContactFrameNames = {
-    "left_toe", "left_heel", "right_toe", "right_heel"};
 
 /// true = closed contact (stance), false = open (swing).
 using ContactFlags = std::array<bool, kNumContacts>;

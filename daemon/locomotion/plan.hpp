@@ -15,7 +15,7 @@
 
 namespace ballast::locomotion {
 
-inline constexpr int kNumContacts = 4;
+using model::kNumContacts;
 inline constexpr int kMaxJoints = 32;
 inline constexpr int kMaxNodes = 100;
 inline constexpr int kMaxState = 12 + kMaxJoints;

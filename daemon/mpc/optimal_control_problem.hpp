@@ -6,11 +6,12 @@
 #include <array>
 #include <memory>
 
+#include "model/contact_points.hpp"
 #include "mpc/lq_problem.hpp"
 
 namespace ballast::mpc {
 
-inline constexpr int kNumContacts = 4;
+using model::kNumContacts;
 /// Closed (stance) or open (swing) per contact point: left toe, left heel, right toe, right heel.
 using StanceFlags = std::array<bool, kNumContacts>;
 

@@ -21,6 +21,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "common/format.hpp"  // plugins/common
 #include "profile/settings.hpp"
 #include "server/protocol.hpp"
 
@@ -67,12 +68,6 @@ std::string commandList() {
   return s;
 }
 
-std::string number(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%g", x);
-  return buf;
-}
-
 /// Checks a request's fields against its command; "" if fine, else the message (code set).
 std::string validate(const protocol::Command& spec, const json& request, const char*& code) {
   for (const auto& [key, value] : request.items()) {
@@ -107,8 +102,8 @@ std::string validate(const protocol::Command& spec, const json& request, const c
     auto inRange = [&](double v) -> std::string {
       if (v >= field->min && v <= field->max) return "";
       code = protocol::kOutOfRange;
-      return std::string(spec.name) + ": " + key + " " + number(v) + " is out of range [" +
-             number(field->min) + ", " + number(field->max) + "]";
+      return std::string(spec.name) + ": " + key + " " + formatNumber(v) + " is out of range [" +
+             formatNumber(field->min) + ", " + formatNumber(field->max) + "]";
     };
     switch (field->type) {
       case protocol::FieldType::kNumber:
@@ -453,7 +448,7 @@ bool Server::checkLease(Client& c, const json& id, const json& request) {
     fail(c.fd, id, protocol::kLeaseHeld,
          "the command lease is held by uid " + std::to_string(lease_->uid) + " (pid " +
              std::to_string(lease_->pid) + (lease_->client.empty() ? "" : ", " + lease_->client) +
-             ") for " + number(std::round(seconds(Clock::now() - lease_->since))) +
+             ") for " + formatNumber(std::round(seconds(Clock::now() - lease_->since))) +
              " s: wait until it is returned, or take it over with `ballast lease take`");
     return false;
   }
@@ -473,8 +468,8 @@ void Server::dispatch(Client& c, const json& id, const std::string& cmd, const j
     const double rate = numberOr(r, "rate", 10.0);
     if (rate > config_.max_watch_rate) {
       fail(c.fd, id, protocol::kOutOfRange,
-           "watch: rate " + number(rate) + " is over server.max_watch_rate " +
-               number(config_.max_watch_rate));
+           "watch: rate " + formatNumber(rate) + " is over server.max_watch_rate " +
+               formatNumber(config_.max_watch_rate));
       return;
     }
     c.watch_rate = rate;
@@ -772,7 +767,7 @@ void Server::expirePending() {
       if (clients_.count(p.client))
         fail(p.client, p.id, protocol::kTimeout,
              "the control loop did not answer within server.reply_timeout (" +
-                 number(config_.reply_timeout) +
+                 formatNumber(config_.reply_timeout) +
                  " s): check `ballast status` and the daemon's log");
     }
 }

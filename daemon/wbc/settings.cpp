@@ -5,6 +5,8 @@
 #include <set>
 #include <string>
 
+#include "common/format.hpp"  // plugins/common
+
 namespace ballast::wbc {
 
 const char* toString(WbcVariant variant) {
@@ -16,11 +18,6 @@ const char* toString(WbcVariant variant) {
 }
 
 namespace {
-std::string number(double x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", x);
-  return buf;
-}
 bool positiveFinite(double x) { return std::isfinite(x) && x > 0.0; }
 bool nonNegativeFinite(double x) { return std::isfinite(x) && x >= 0.0; }
 }  // namespace
@@ -51,15 +48,15 @@ std::string validateSettings(const WbcSettings& s, const model::Model& model) {
                {"wbc.joint_kp", s.jointKp}, {"wbc.joint_kd", s.jointKd}};
   for (const auto& g : gains)
     if (!nonNegativeFinite(g.value))
-      return std::string(g.key) + ": must be a finite number ≥ 0, got " + number(g.value);
+      return std::string(g.key) + ": must be a finite number ≥ 0, got " + formatNumber(g.value);
   for (int i = 0; i < 6; ++i) {
     if (!nonNegativeFinite(s.baseKp[i]))
-      return "wbc.base_kp[" + std::to_string(i) + "]: must be ≥ 0, got " + number(s.baseKp[i]);
+      return "wbc.base_kp[" + std::to_string(i) + "]: must be ≥ 0, got " + formatNumber(s.baseKp[i]);
     if (!nonNegativeFinite(s.baseKd[i]))
-      return "wbc.base_kd[" + std::to_string(i) + "]: must be ≥ 0, got " + number(s.baseKd[i]);
+      return "wbc.base_kd[" + std::to_string(i) + "]: must be ≥ 0, got " + formatNumber(s.baseKd[i]);
   }
   if (!positiveFinite(s.frictionCoefficient) || s.frictionCoefficient > 10.0)
-    return "wbc.friction_coefficient: must be in (0, 10], got " + number(s.frictionCoefficient);
+    return "wbc.friction_coefficient: must be in (0, 10], got " + formatNumber(s.frictionCoefficient);
   if (!s.torqueLimit.empty()) {
     if (static_cast<int>(s.torqueLimit.size()) != model.nj())
       return "wbc.torque_limit: needs " + std::to_string(model.nj()) + " entries (one per joint), got " +
@@ -67,12 +64,12 @@ std::string validateSettings(const WbcSettings& s, const model::Model& model) {
     for (int j = 0; j < model.nj(); ++j)
       if (!positiveFinite(s.torqueLimit[j]))
         return "wbc.torque_limit[" + std::to_string(j) + "] (" + model.jointName[j + 1] +
-               "): must be > 0, got " + number(s.torqueLimit[j]);
+               "): must be > 0, got " + formatNumber(s.torqueLimit[j]);
   } else {
     for (int j = 0; j < model.nj(); ++j)
       if (!positiveFinite(model.effortLimit[j]))
         return "wbc.torque_limit: not given and the model's effort limit of joint '" +
-               model.jointName[j + 1] + "' is " + number(model.effortLimit[j]);
+               model.jointName[j + 1] + "' is " + formatNumber(model.effortLimit[j]);
   }
   const struct {
     const char* key;
@@ -82,13 +79,13 @@ std::string validateSettings(const WbcSettings& s, const model::Model& model) {
                  {"wbc.contact_force_weight", s.contactForceWeight}};
   for (const auto& w : weights)
     if (!nonNegativeFinite(w.value))
-      return std::string(w.key) + ": must be a finite number ≥ 0, got " + number(w.value);
+      return std::string(w.key) + ": must be a finite number ≥ 0, got " + formatNumber(w.value);
   if (!positiveFinite(s.regularization) || s.regularization > 1e-2)
-    return "wbc.regularization: must be in (0, 0.01], got " + number(s.regularization);
+    return "wbc.regularization: must be in (0, 0.01], got " + formatNumber(s.regularization);
   if (s.maxQpIterations < 1 || s.maxQpIterations > 100000)
     return "wbc.max_qp_iterations: must be in [1, 100000], got " + std::to_string(s.maxQpIterations);
   if (!positiveFinite(s.period) || s.period > 0.1)
-    return "wbc.period: must be in (0, 0.1] s, got " + number(s.period);
+    return "wbc.period: must be in (0, 0.1] s, got " + formatNumber(s.period);
   return "";
 }
 
