@@ -68,7 +68,7 @@ std::shared_ptr<Plugin> Plugin::load(const std::string& nameOrPath,
     }
     if (path.empty())
       throw PluginError("backend '" + nameOrPath + "': no " + file + " in " + searched +
-                        " (set backend.plugin_dirs in the profile or BALLAST_PLUGIN_PATH)");
+                        " (add its directory to the profile's plugin directories or to BALLAST_PLUGIN_PATH)");
   }
 
   dlerror();

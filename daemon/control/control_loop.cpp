@@ -42,21 +42,21 @@ const char* statusName(backend::Status s) {
 }  // namespace
 
 ControlLoop::ControlLoop(const model::Model& model, backend::Backend& backend,
-                         const ControlSettings& settings, const LoopOptions& options)
+                         SettingsPtr settings, const LoopOptions& options)
     : model_(model),
       backend_(backend),
-      settings_(&settings),
+      settings_(std::move(settings)),
       options_(options),
       nj_(model.nj()),
-      estimator_(model, settings),
-      stand_(model, settings),
-      walking_(model, settings),
+      estimator_(model, *settings_),
+      stand_(model, *settings_),
+      walking_(model, *settings_),
       commands_(options.command_capacity),
       replies_(options.command_capacity),
       events_(256),
       telemetry_(options.telemetry_capacity),
       clock_(options.clock ? options.clock : &monotonicNs),
-      timing_stats_(settings.rate) {
+      timing_stats_(settings_->rate) {
   if (nj_ > kMaxJoints)
     throw std::runtime_error(model.sourceFile + ": " + std::to_string(nj_) +
                              " joints; ballastd handles at most " + std::to_string(kMaxJoints));
@@ -74,11 +74,11 @@ ControlLoop::ControlLoop(const model::Model& model, backend::Backend& backend,
     throw std::runtime_error(std::string("backend '") + caps.name + "' has no joint named " +
                              missing + " (the model " + model.sourceFile +
                              " has them): use the same URDF for both");
-  period_ = 1.0 / settings.rate;
-  modes_.configure(settings, stand_.nominalHeight());
+  period_ = 1.0 / settings_->rate;
+  modes_.configure(*settings_, stand_.nominalHeight());
   for (int j = 0; j < nj_; ++j) {
-    kp_[j] = settings.kp[j];
-    kd_[j] = settings.kd[j];
+    kp_[j] = settings_->kp[j];
+    kd_[j] = settings_->kd[j];
   }
   commands_out_.num_joints = caps.num_joints;
   wake_fd_ = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
@@ -277,9 +277,10 @@ void ControlLoop::keepSchedule(double work) {
   const std::uint32_t late = timing_stats_.lateInLastSecond();
   if (window > 0 && static_cast<double>(late) > s.max_late_fraction * s.rate) {
     std::snprintf(message_, sizeof(message_),
-                  "%u of the last %u ticks were late (safety.max_late_fraction %.2f of a second's "
-                  "ticks); the last late one did %.2f ms of work",
-                  late, window, s.max_late_fraction, late_work_ * 1e3);
+                  "%u of the last %u ticks were late (%s %.2f of a second's ticks); the last late "
+                  "one did %.2f ms of work",
+                  late, window, settingName(s, &s.max_late_fraction, "limit"), s.max_late_fraction,
+                  late_work_ * 1e3);
     raise(FaultKind::kLateTicks, message_);
   }
 }
@@ -341,8 +342,8 @@ void ControlLoop::planPost() {
   }
   if (have_plan_ && t_ - plan_.t > settings_->max_plan_age) {
     std::snprintf(message_, sizeof(message_),
-                  "no valid plan for %.3f s (safety.max_plan_age %.3f s): %.120s", t_ - plan_.t,
-                  settings_->max_plan_age,
+                  "no valid plan for %.3f s (%s %.3f s): %.120s", t_ - plan_.t,
+                  settingName(*settings_, &settings_->max_plan_age, "limit"), settings_->max_plan_age,
                   planner_streak_ > 0 ? planner_message_ : "the planner did not answer");
     raise(FaultKind::kPlanner, message_);
   }
@@ -426,11 +427,17 @@ void ControlLoop::handleCommands() {
     CommandReply& reply = tick_replies_[num_tick_replies_++];
     reply = CommandReply{};
     reply.sequence = c.sequence;
+    last_command_ = c.sequence;
     if (shutting_down_) {
       reply.refusal = Refusal::kRefused;
       copyText(reply.message, "ballastd is shutting down");
     } else if (c.kind == CommandKind::kSwitchSettings) {
-      applySettings(c.settings, reply);
+      if (c.settings && *c.settings) {
+        applySettings(*c.settings, reply);
+      } else {
+        reply.refusal = Refusal::kRefused;
+        copyText(reply.message, "a settings switch without settings");
+      }
     } else if (c.kind == CommandKind::kPush) {
       const backend::Capabilities& caps = backend_.capabilities();
       const double f =
@@ -444,9 +451,12 @@ void ControlLoop::handleCommands() {
       } else if (f > settings_->max_push_force || c.push.duration > settings_->max_push_duration) {
         reply.refusal = Refusal::kOutOfRange;
         std::snprintf(reply.message, sizeof(reply.message),
-                      "push of %.1f N for %.2f s is beyond safety.max_push_force %.1f N or "
-                      "safety.max_push_duration %.2f s",
-                      f, c.push.duration, settings_->max_push_force, settings_->max_push_duration);
+                      "push of %.1f N for %.2f s is beyond %s %.1f N or %s %.2f s", f,
+                      c.push.duration,
+                      settingName(*settings_, &settings_->max_push_force, "the force limit"),
+                      settings_->max_push_force,
+                      settingName(*settings_, &settings_->max_push_duration, "the duration limit"),
+                      settings_->max_push_duration);
       } else if (!backend_.push(c.push, err)) {
         reply.refusal = Refusal::kBackend;
         copyText(reply.message, err.message);
@@ -468,17 +478,18 @@ void ControlLoop::sendReplies() {
   num_tick_replies_ = 0;
 }
 
-void ControlLoop::applySettings(const ControlSettings* next, CommandReply& reply) {
+void ControlLoop::applySettings(const SettingsPtr& next, CommandReply& reply) {
   // Gains blend from what is in force now to the new ones over gain_blend_time.
   blend_kp_ = kp_;
   blend_kd_ = kd_;
   blend_start_ = t_;
-  reply.retired = settings_;
-  settings_ = next;
+  settings_ = next;  // the IO side still holds the old ones: the loop frees nothing
   if (!estimator_.setSettings(*next))
     event(true, "estimator: the new profile's frames differ; the estimator keeps the old ones");
   stand_.setSettings(*next);
-  walking_.setSettings(*next);
+  if (!walking_.setSettings(*next))
+    event(true, "whole-body controller: the new profile's contact frames differ; it keeps the old "
+                "settings");
   modes_.configure(*next, stand_.nominalHeight());
   ++settings_generation_;
   std::snprintf(reply.message, sizeof(reply.message), "gains blend over %.2f s",
@@ -502,12 +513,12 @@ void ControlLoop::detectFall() {
   const Mode m = modes_.mode();
   if (!fallen_ || !(m == Mode::kStandUp || m == Mode::kStand || m == Mode::kWalk)) return;
   if (tilt > s.max_tilt)
-    std::snprintf(message_, sizeof(message_), "fall: base tilted %.2f rad (safety.max_tilt %.2f)",
-                  tilt, s.max_tilt);
+    std::snprintf(message_, sizeof(message_), "fall: base tilted %.2f rad (%s %.2f)", tilt,
+                  settingName(s, &s.max_tilt, "limit"), s.max_tilt);
   else if (height < s.min_base_height)
     std::snprintf(message_, sizeof(message_),
-                  "fall: base height %.3f m (safety.min_base_height %.3f)", height,
-                  s.min_base_height);
+                  "fall: base height %.3f m (%s %.3f)", height,
+                  settingName(s, &s.min_base_height, "limit"), s.min_base_height);
   else
     std::snprintf(message_, sizeof(message_),
                   "fall: a body other than the feet touches the ground");
@@ -585,9 +596,10 @@ void ControlLoop::writeCommands() {
     const double gap = t_ - last_write_time_;
     if (gap > settings_->max_command_gap) {
       std::snprintf(message_, sizeof(message_),
-                    "the motors went %.1f ms without a command (safety.max_command_gap %.1f ms): "
-                    "the control thread stalled",
-                    gap * 1e3, settings_->max_command_gap * 1e3);
+                    "the motors went %.1f ms without a command (%s %.1f ms): the control thread "
+                    "stalled",
+                    gap * 1e3, settingName(*settings_, &settings_->max_command_gap, "limit"),
+                    settings_->max_command_gap * 1e3);
       raise(FaultKind::kCommandGap, message_);
     }
   }
@@ -624,6 +636,7 @@ void ControlLoop::publish() {
   p.telemetry_frames = recorded_;
   p.telemetry_dropped = dropped_;
   p.settings_generation = settings_generation_;
+  p.last_command = last_command_;
   p.num_joints = nj_;
   for (int j = 0; j < nj_; ++j) {
     p.q[j] = input_.state.q[j];

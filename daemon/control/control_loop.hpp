@@ -11,9 +11,9 @@
 // commands arrive in an SPSC ring from the IO thread, replies and log events leave in two
 // more (a tick's replies leave after its status is published, so a client that has its reply
 // never reads a status from before its command), the status is published through a seqlock, telemetry frames through a ring the writer
-// thread drains, and a profile switch arrives as a pointer inside a command (the old settings
-// go back in the reply for the IO side to free). tick() allocates nothing and takes no lock
-// (test/unit/control/no_allocation_test.cpp interposes malloc to check).
+// thread drains, and a profile switch arrives as a handle to settings the IO side keeps
+// (settings_keeper.hpp): the loop shares them and never frees any. tick() allocates nothing and
+// takes no lock (test/unit/control/control_loop_test.cpp interposes malloc to check).
 //
 // Faults (backend kFault/kStale, repeated sensor sequence, NaN in sensors or commands, a fall, a
 // plan older than safety.max_plan_age, an exception in the control or planner thread) put the
@@ -39,6 +39,7 @@
 #include "control/planner_slot.hpp"
 #include "control/seqlock.hpp"
 #include "control/settings.hpp"
+#include "control/settings_keeper.hpp"
 #include "control/spsc_ring.hpp"
 #include "control/stand_controller.hpp"
 #include "control/telemetry.hpp"
@@ -66,7 +67,7 @@ class ControlLoop {
  public:
   /// The backend must be configured and started. Throws std::runtime_error when its joints do
   /// not match the model (names listed), model::ModelError for missing frames.
-  ControlLoop(const model::Model& model, backend::Backend& backend, const ControlSettings& settings,
+  ControlLoop(const model::Model& model, backend::Backend& backend, SettingsPtr settings,
               const LoopOptions& options);
   ~ControlLoop();
   ControlLoop(const ControlLoop&) = delete;
@@ -106,7 +107,7 @@ class ControlLoop {
  private:
   void readSensors();
   void handleCommands();
-  void applySettings(const ControlSettings* next, CommandReply& reply);
+  void applySettings(const SettingsPtr& next, CommandReply& reply);
   void detectFall();
   void planPost();
   void computeCommands();
@@ -128,7 +129,7 @@ class ControlLoop {
 
   const model::Model& model_;
   backend::Backend& backend_;
-  const ControlSettings* settings_;
+  SettingsPtr settings_;  // shared with the IO side, which frees it (never the loop)
   LoopOptions options_;
   int nj_;
   std::vector<std::string> joint_names_;
@@ -192,6 +193,7 @@ class ControlLoop {
   double late_work_ = 0.0;           // work of the last late tick, s
   double next_late_warning_ = 0.0;   // controller time
   std::uint64_t settings_generation_ = 0;
+  std::uint64_t last_command_ = 0;
   double t_ = 0.0, period_ = 0.001;
   double wbc_ms_ = 0.0, wbc_ms_max_ = 0.0;
   char message_[kMessageLength] = {};

@@ -103,9 +103,10 @@ Refusal ModeMachine::checkPose(const OperatorCommand& c, char (&message)[kMessag
   const double h = std::isnan(c.height) ? nominal_height_ : c.height;
   if (h < s.min_pose_height || h > s.max_pose_height) {
     std::snprintf(message, kMessageLength,
-                  "height %.3f m is outside safety.min_pose_height..max_pose_height "
-                  "[%.3f, %.3f] m: pick a height inside it",
-                  h, s.min_pose_height, s.max_pose_height);
+                  "height %.3f m is outside %s..%s [%.3f, %.3f] m: pick a height inside it", h,
+                  settingName(s, &s.min_pose_height, "the lowest"),
+                  settingName(s, &s.max_pose_height, "the highest pose height"), s.min_pose_height,
+                  s.max_pose_height);
     return Refusal::kOutOfRange;
   }
   const double tilt[2] = {c.roll, c.pitch};
@@ -113,14 +114,14 @@ Refusal ModeMachine::checkPose(const OperatorCommand& c, char (&message)[kMessag
   for (int i = 0; i < 2; ++i)
     if (std::abs(tilt[i]) > s.max_pose_tilt) {
       std::snprintf(message, kMessageLength,
-                    "%s %.3f rad is beyond safety.max_pose_tilt %.3f rad: pick a smaller angle",
-                    names[i], tilt[i], s.max_pose_tilt);
+                    "%s %.3f rad is beyond %s %.3f rad: pick a smaller angle", names[i], tilt[i],
+                    settingName(s, &s.max_pose_tilt, "the tilt limit"), s.max_pose_tilt);
       return Refusal::kOutOfRange;
     }
   if (std::abs(c.yaw) > s.max_pose_yaw) {
     std::snprintf(message, kMessageLength,
-                  "yaw %.3f rad is beyond safety.max_pose_yaw %.3f rad: pick a smaller angle",
-                  c.yaw, s.max_pose_yaw);
+                  "yaw %.3f rad is beyond %s %.3f rad: pick a smaller angle", c.yaw,
+                  settingName(s, &s.max_pose_yaw, "the yaw limit"), s.max_pose_yaw);
     return Refusal::kOutOfRange;
   }
   return Refusal::kNone;
@@ -183,20 +184,19 @@ Refusal ModeMachine::handle(const OperatorCommand& c, double t, const Situation&
       {
         const double lim[3] = {s.max_vx, s.max_vy, s.max_yaw_rate};
         const double val[3] = {c.vx, c.vy, c.yaw_rate};
-        const char* key[3] = {"max_vx", "max_vy", "max_yaw_rate"};
+        const double* field[3] = {&s.max_vx, &s.max_vy, &s.max_yaw_rate};
         for (int i = 0; i < 3; ++i)
           if (std::abs(val[i]) > lim[i]) {
-            std::snprintf(message, kMessageLength,
-                          "%s %.3f is beyond the profile's safety.%s %.3f: ask for less",
-                          i == 2 ? "yaw rate" : (i == 0 ? "vx" : "vy"), val[i], key[i], lim[i]);
+            std::snprintf(message, kMessageLength, "%s %.3f is beyond the profile's %s %.3f: ask for less",
+                          i == 2 ? "yaw rate" : (i == 0 ? "vx" : "vy"), val[i],
+                          settingName(s, field[i], "limit"), lim[i]);
             return Refusal::kOutOfRange;
           }
         const double ttl = c.ttl > 0.0 ? c.ttl : s.command_ttl;
         if (ttl > s.max_command_ttl) {
           std::snprintf(message, kMessageLength,
-                        "ttl %.1f s is beyond safety.max_command_ttl %.1f s: send shorter "
-                        "commands (and repeat them)",
-                        ttl, s.max_command_ttl);
+                        "ttl %.1f s is beyond %s %.1f s: send shorter commands (and repeat them)",
+                        ttl, settingName(s, &s.max_command_ttl, "the longest ttl"), s.max_command_ttl);
           return Refusal::kOutOfRange;
         }
         setMode(Mode::kWalk, t);

@@ -27,14 +27,14 @@ StandPosture::StandPosture(const model::Model& model, const ControlSettings& set
     if (body == footBody[0] || body == footBody[1]) continue;
     if (numFeet == 2)
       throw model::ModelError(model.sourceFile +
-                              ": robot.contact_frames lie on more than two "
-                              "bodies; a standing posture needs exactly two feet");
+                              ": the contact frames lie on more than two bodies; a standing "
+                              "posture needs exactly two feet");
     footBody[numFeet] = body;
     legs_[numFeet].frame = f;
     ++numFeet;
   }
   if (numFeet != 2)
-    throw model::ModelError(model.sourceFile + ": robot.contact_frames lie on " +
+    throw model::ModelError(model.sourceFile + ": the contact frames lie on " +
                             std::to_string(numFeet) + " body; a standing posture needs two feet");
   for (int l = 0; l < 2; ++l) {
     Leg& leg = legs_[l];

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <memory>
 
 #include "backend_abi.hpp"
 #include "control/tick_timing.hpp"
@@ -175,6 +176,7 @@ struct LoopStatus {
   std::uint64_t telemetry_frames = 0;
   std::uint64_t telemetry_dropped = 0;
   std::uint64_t settings_generation = 0;  ///< bumps when a profile switch takes effect
+  std::uint64_t last_command = 0;  ///< sequence of the last command the loop took
   int num_joints = 0;
   double q[kMaxJoints] = {};
   double tau[kMaxJoints] = {};
@@ -201,7 +203,8 @@ struct OperatorCommand {
   double vx = 0.0, vy = 0.0, yaw_rate = 0.0, ttl = 0.0;      ///< walk (ttl <= 0: the profile's)
   double height = kNaN, roll = 0.0, pitch = 0.0, yaw = 0.0;  ///< pose (height NaN: nominal)
   backend::Push push;                                        ///< push
-  const ControlSettings* settings = nullptr;                 ///< switch: owned by the IO side
+  /// Switch: a handle the IO side keeps (SettingsKeeper) until the loop has taken it.
+  const std::shared_ptr<const ControlSettings>* settings = nullptr;
 };
 
 /// Why the loop refused a command.
@@ -219,7 +222,6 @@ struct CommandReply {
   Refusal refusal = Refusal::kNone;
   Mode mode = Mode::kPassive;  ///< after the command
   char message[kMessageLength] = {};
-  const ControlSettings* retired = nullptr;  ///< switch: the settings the IO side may free now
 };
 
 /// Loop -> IO thread (ring): something worth a log line (mode changes, faults).

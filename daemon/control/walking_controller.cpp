@@ -9,18 +9,25 @@ WalkingController::WalkingController(const model::Model& model, const ControlSet
     : model_(model),
       settings_(&settings),
       sampler_(model, locomotion::contactFrameIds(model, settings.locomotion)) {
-  // Sized once; every settings' controller is for the same model and contact points (restart
-  // keys), so these fit them all.
-  if (settings.wbc) {
-    state_ = settings.wbc->makeState();
-    reference_ = settings.wbc->makeReference();
-    output_ = settings.wbc->makeOutput();
+  // Built and sized once: every later settings are for the same model and contact points
+  // (restart keys), and setSettings() reconfigures the controller without allocating. Settings
+  // that do not describe a controller (built by hand, without a profile) leave none: the
+  // standing controller holds the robot.
+  if (!wbc::validateSettings(settings.wbc, model)) {
+    wbc_ = std::make_unique<wbc::WholeBodyController>(model, settings.wbc);
+    state_ = wbc_->makeState();
+    reference_ = wbc_->makeReference();
+    output_ = wbc_->makeOutput();
   }
 }
 
+bool WalkingController::setSettings(const ControlSettings& settings) {
+  settings_ = &settings;
+  return !wbc_ || wbc_->setSettings(settings.wbc);
+}
+
 bool WalkingController::ready(const PlannerOutput* plan) const {
-  return settings_->wbc && state_.q.size() == model_.nq && plan && plan->valid &&
-         plan->plan.valid && plan->plan.nodes > 0;
+  return wbc_ && plan && plan->valid && plan->plan.valid && plan->plan.nodes > 0;
 }
 
 wbc::WbcStatus WalkingController::compute(const ControllerInput& in, ControllerOutput& out) {
@@ -31,7 +38,7 @@ wbc::WbcStatus WalkingController::compute(const ControllerInput& in, ControllerO
   sampler_.sample(plan, in.t + kLookAhead, ahead_);
   planToWbcReference(now_, ahead_, kLookAhead, model_.nj(), reference_);
   toModelState(model_, in.state, state_.q, state_.v);
-  const wbc::WbcStatus status = settings_->wbc->update(state_, reference_, output_);
+  const wbc::WbcStatus status = wbc_->update(state_, reference_, output_);
   const double kp = settings_->wbc_motor_kp, kd = settings_->wbc_motor_kd;
   for (int j = 0; j < model_.nj(); ++j) {
     out.joint[j] = motorCommand(output_, j, kp, kd);

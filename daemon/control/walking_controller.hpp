@@ -1,8 +1,8 @@
 // Stand and walk under the whole-body controller (paper Fig. 4: MPC -> WBC -> motors): the
-// latest plan sampled at the controller's time -> WbcReference (plan_reference.hpp) -> the
-// settings' WholeBodyController -> τ_ff plus joint targets for the motors' PD (wbc.motor_kp,
-// wbc.motor_kd; the torques do the work, the PD acts within the tick where the controller
-// cannot).
+// latest plan sampled at the controller's time -> WbcReference (plan_reference.hpp) -> its
+// WholeBodyController (built from the settings, reconfigured from new ones at a profile switch)
+// -> τ_ff plus joint targets for the motors' PD (the settings' wbc_motor_kp/kd; the torques do
+// the work, the PD acts within the tick where the controller cannot).
 //
 // The loop runs it in stand and walk whenever a plan exists; before the first plan (and during
 // stand-up) the standing controller holds the robot. Everything is sized at construction;
@@ -11,11 +11,14 @@
 // Per-level errors reported: the WBC's ‖A ξ − b‖ per paper priority (wbc/interface.hpp).
 #pragma once
 
+#include <memory>
+
 #include "control/settings.hpp"
 #include "control/types.hpp"
 #include "locomotion/locomotion_planner.hpp"
 #include "model/model.hpp"
 #include "wbc/interface.hpp"
+#include "wbc/whole_body_controller.hpp"
 
 namespace ballast::control {
 
@@ -36,8 +39,11 @@ class WalkingController {
   /// Throws model::ModelError when the contact frames are not in the model.
   WalkingController(const model::Model& model, const ControlSettings& settings);
 
-  void setSettings(const ControlSettings& settings) { settings_ = &settings; }
-  /// True when the settings carry a whole-body controller and `plan` is a valid plan.
+  /// New settings (they outlive their use here); the controller takes their numbers without
+  /// allocating. False when the whole-body controller could not take them (other contact
+  /// frames): it keeps its old ones.
+  bool setSettings(const ControlSettings& settings);
+  /// True when there is a whole-body controller and `plan` is a valid plan.
   bool ready(const PlannerOutput* plan) const;
 
   /// One tick (ready() must hold). Returns the controller's status: kInvalidInput means the
@@ -47,6 +53,7 @@ class WalkingController {
  private:
   const model::Model& model_;
   const ControlSettings* settings_;
+  std::unique_ptr<wbc::WholeBodyController> wbc_;
   locomotion::PlanSampler sampler_;
   locomotion::PlanSample now_, ahead_;
   wbc::WbcState state_;

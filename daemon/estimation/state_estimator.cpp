@@ -29,8 +29,8 @@ const char* toString(EstimatorStatus status) {
 
 namespace {
 std::array<int, kContactPoints> contactFrames(const model::Model& model, const EstimatorSettings& s) {
-  const std::string error = validateSettings(s, model);
-  if (!error.empty()) throw std::invalid_argument(error);
+  if (const model::SettingsProblem problem = validateSettings(s, model))
+    throw std::invalid_argument(problem.message);
   std::array<int, kContactPoints> frames{};
   for (int c = 0; c < kContactPoints; ++c) frames[c] = model.frameId(s.contactFrames[c]);
   return frames;

@@ -19,11 +19,12 @@
 
 namespace ballast::gait {
 
+/// A walking gait's numbers come from the profile (gait.*); Gait{} is standing.
 struct Gait {
   bool walking = false;
-  double period = 0.8;          ///< s, one cycle (two steps)
-  double doubleSupport = 0.2;   ///< fraction of the cycle with both feet down
-  double toeOffLead = 0.0;      ///< s, heel leaves and lands this much before its toe
+  double period;          ///< s, one cycle (two steps)
+  double doubleSupport;   ///< fraction of the cycle with both feet down
+  double toeOffLead;      ///< s, heel leaves and lands this much before its toe
 
   double swingDuration() const { return 0.5 * (1.0 - doubleSupport) * period; }
   double stanceDuration() const { return period - swingDuration(); }

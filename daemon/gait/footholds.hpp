@@ -48,7 +48,7 @@ struct PlanarPose {
 };
 
 struct FootholdParameters {
-  double feedbackGain = 0.15;   ///< k
+  double feedbackGain;          ///< k (the profile's gait.foothold_gain)
   double nominalHeight = 0.85;  ///< h, m
   double gravity = 9.81;        ///< |g|
 };

@@ -19,14 +19,15 @@
 
 namespace ballast::gait {
 
+/// Filled by the profile (gait.*: defaults and bounds in daemon/profile/schema.cpp).
 struct SwingPlannerParameters {
-  double apexClearance = 0.08;   ///< m above the terrain between lift-off and touch-down
+  double apexClearance;   ///< m above the terrain between lift-off and touch-down
   /// A swing whose terrain rises or falls more than stepHeight (m) between lift-off and
   /// touch-down lifts (and lowers) vertically for stepLift of its duration at each end.
-  double stepHeight = 0.03;
-  double stepLift = 0.2;
-  double replanUntil = 0.7;      ///< fraction of a swing after which its touch-down is held
-  double minFeetDistance = 0.12; ///< m, lateral, between left and right contact points
+  double stepHeight;
+  double stepLift;
+  double replanUntil;      ///< fraction of a swing after which its touch-down is held
+  double minFeetDistance;  ///< m, lateral, between left and right contact points
   FootholdParameters foothold;
 };
 

@@ -37,53 +37,44 @@
 
 namespace ballast::locomotion {
 
-/// Weights of the squared tracking errors, per second of horizon.
+/// Weights of the squared tracking errors, per second of horizon (the profile's planner.q_* and
+/// planner.r_*; why the defaults are what they are is written beside their keys in
+/// daemon/profile/schema.cpp).
 struct CostWeights {
-  double linearVelocity = 40.0;       ///< on (h_lin/m − v_ref), (m/s)⁻²
-  double angularMomentum = 1.0;       ///< on h_ang/m, (m²/s)⁻²
-  Eigen::Vector3d basePosition{200.0, 200.0, 800.0};     ///< x, y, z, m⁻²
-  Eigen::Vector3d baseOrientation{300.0, 800.0, 800.0};  ///< yaw, pitch, roll, rad⁻²
-  double legJoint = 5.0;              ///< rad⁻²
-  double armJoint = 5.0;              ///< rad⁻²
-  double force = 1e-3;                ///< N⁻²
-  /// (rad/s)⁻². Kept small: every leg joint velocity a walking step needs is penalised, and a
-  /// crouched posture needs smaller ones, so a large weight buys lower joint speeds with base
-  /// height (at 10 the plan walked 8 cm low on its own model). The plan used to chatter at small
-  /// weights because explicit Euler let alternating joint velocities steer the base; the
-  /// discretisation no longer allows that (mpc/kinodynamic_problem.hpp).
-  double legJointVelocity = 0.5;
-  /// (rad/s)⁻². The arms are the plan's cheapest way to change the base velocity the momentum
-  /// implies, so the first node also uses them to absorb a measured state that does not quite
-  /// fit the contacts (a rolling or sliding foot): at 0.5 that turns into arm accelerations of
-  /// hundreds of rad/s² at lift-off. 1 keeps the arm swing (the momentum balance of the legs)
-  /// and damps that; ≥ 2 nearly freezes the arms at 0.5 m/s.
-  double armJointVelocity = 1.0;
+  double linearVelocity;            ///< on (h_lin/m − v_ref), (m/s)⁻²
+  double angularMomentum;           ///< on h_ang/m, (m²/s)⁻²
+  Eigen::Vector3d basePosition;     ///< x, y, z, m⁻²
+  Eigen::Vector3d baseOrientation;  ///< yaw, pitch, roll, rad⁻²
+  double legJoint;                  ///< rad⁻²
+  double armJoint;                  ///< rad⁻²
+  double force;                     ///< N⁻²
+  double legJointVelocity;          ///< (rad/s)⁻²
+  double armJointVelocity;          ///< (rad/s)⁻²
 };
 
+/// Filled by the profile (gait.*, planner.*) and, for the robot's part, from the model.
 struct LocomotionSettings {
-  std::array<std::string, kNumContacts> contactFrames{"left_toe", "left_heel", "right_toe",
-                                                      "right_heel"};
+  std::array<std::string, kNumContacts> contactFrames;
   Eigen::VectorXd nominalJoints;        ///< nj; nominal posture (legs bent, arms hanging)
   std::vector<bool> armJoint;           ///< nj; true for arm joints (their own weights)
   double nominalHeight = 0.85;          ///< base above the terrain, m
-  double maxPositionLead = 0.15;        ///< commanded base position kept this close, m
+  double maxPositionLead;               ///< commanded base position kept this close, m
   /// Footholds are placed from the measured base moved towards the commanded one by at most
   /// this (see update()): enough to walk a standing position error off, not a lead.
-  double footholdLead = 0.05;           ///< m
+  double footholdLead;                  ///< m
   /// The commanded velocity slews towards the operator's at these rates (a step from standing
   /// to 1.2 m/s is not a motion a biped can make); stopping decelerates the same way and the
   /// gait stands once the slewed velocity is zero.
-  double maxAcceleration = 1.0;         ///< m/s², forward and lateral
-  double maxYawAcceleration = 1.5;      ///< rad/s²
+  double maxAcceleration;               ///< m/s², forward and lateral
+  double maxYawAcceleration;            ///< rad/s²
   /// Stepping goes on this long after the commanded velocity reached zero: the steps that take
   /// out the velocity the body still carries (the slewed command stops before the robot does).
-  double stopDelay = 0.4;               ///< s
-  gait::Gait walkGait{true, 0.8, 0.2, 0.0};
+  double stopDelay;                     ///< s
+  gait::Gait walkGait;                  ///< walking (the profile layer sets it so)
   /// Walking from standing begins this long after it is asked for: the plan shifts the weight
-  /// onto the first stance foot in double support meanwhile (with none, the first swing left
-  /// 80 ms after the command, over a centre of mass still between the feet, and the robot fell
-  /// sideways into its first step). The commanded velocity starts slewing then too.
-  double walkStartDelay = 0.3;          ///< s
+  /// onto the first stance foot in double support meanwhile (the schema's default says why).
+  /// The commanded velocity starts slewing then too.
+  double walkStartDelay;                ///< s
   gait::SwingPlannerParameters swing;
   CostWeights weights;
   mpc::ProblemSettings problem;         ///< weights are filled from `weights`

@@ -125,8 +125,10 @@ int main(int argc, char** argv) {
   app.add_option("--profile", profilePath,
                  "profile (YAML); default: sim-flat from the profile directories");
   app.add_option("--socket", socketPath,
-                 "socket path (default: the profile's server.socket, else "
-                 "$XDG_RUNTIME_DIR/ballast/ballastd.sock)");
+                 std::string("socket path (default: the profile's ") +
+                     profile::table().keyOf<&profile::Settings::server,
+                                            &server::ServerConfig::socket_path>() +
+                     ", else $XDG_RUNTIME_DIR/ballast/ballastd.sock)");
   app.add_flag("--lockstep", lockstep,
                "step the simulation once per tick: deterministic, as fast as it runs");
   app.add_option("--log-level", logLevel, "trace, debug, info, warn, error or off")
@@ -165,23 +167,29 @@ int main(int argc, char** argv) {
   server::DaemonContext ctx;
   ctx.profile_dirs = profile::defaultProfileDirs();
   std::unique_ptr<model::Model> model;
+  profile::Settings settings;
   try {
     if (profilePath.empty()) profilePath = profile::resolveProfile("sim-flat", ctx.profile_dirs);
     ctx.profile =
         std::make_unique<profile::Profile>(profile::Profile::load(profilePath, ctx.profile_dirs));
     model = std::make_unique<model::Model>(profile::loadModel(*ctx.profile));
-    ctx.settings = new control::ControlSettings(profile::buildSettings(*ctx.profile, *model));
+    settings = profile::settingsFor(*ctx.profile, *model);
+    ctx.settings = std::make_shared<const control::ControlSettings>(settings.control);
+    ctx.keeper.keep(ctx.settings, 0);
   } catch (const profile::ProfileError& e) {
     return startupError("profile " + profilePath + " refused:\n" + e.what());
   }
   const profile::Profile& prof = *ctx.profile;
-  // The terrain map and the planner's height grid from it (a flat floor at
-  // terrain.ground_height without one).
-  const double ground = prof.number("terrain.ground_height");
+  auto problem = [&](const void* field, const std::string& what) {
+    return prof.problem(profile::keyOf(settings, field), what);
+  };
+  // The terrain map and the planner's height grid from it (a flat floor at the ground height
+  // without one).
+  const double ground = settings.control.ground_height;
   ctx.map = server::TerrainMap(ground);
-  if (const std::string map = prof.text("terrain.map"); !map.empty()) {
+  if (const std::string& map = settings.terrain_map; !map.empty()) {
     std::string error;
-    if (!ctx.map.load(map, ground, error)) return startupError(prof.problem("terrain.map", error));
+    if (!ctx.map.load(map, ground, error)) return startupError(problem(&settings.terrain_map, error));
   }
   if (check) {
     std::printf("profile %s is valid (%zu file%s; robot %s, %d joints)\n", prof.path().c_str(),
@@ -194,14 +202,14 @@ int main(int argc, char** argv) {
   std::shared_ptr<backend::Plugin> plugin;
   backend::BackendPtr backend;
   try {
-    plugin = backend::Plugin::load(prof.text("backend.name"), prof.strings("backend.plugin_dirs"));
+    plugin = backend::Plugin::load(settings.backend.name, settings.backend.plugin_dirs);
     backend = plugin->create();
   } catch (const backend::PluginError& e) {
-    return startupError(prof.problem("backend.name", e.what()));
+    return startupError(problem(&settings.backend.name, e.what()));
   }
   if (!backend) return startupError("backend " + plugin->path() + ": create() returned nothing");
   const profile::Profile::BackendSection section = prof.backendSection();
-  const std::string urdf = prof.text("robot.urdf"), terrain = prof.text("terrain.map");
+  const std::string urdf = settings.urdf, terrain = settings.terrain_map;
   std::vector<const char*> contactNames;
   for (const auto& f : ctx.settings->contact_frames) contactNames.push_back(f.c_str());
   backend::Config config;
@@ -220,10 +228,10 @@ int main(int argc, char** argv) {
   config.num_joint_models = model->nj();
   config.period = 1.0 / ctx.settings->rate;
   config.lockstep = lockstep;
-  config.seed = static_cast<std::uint64_t>(prof.integer("backend.seed"));
+  config.seed = settings.backend.seed;
   backend::Error error;
   if (!backend->configure(config, error))
-    return startupError("backend " + prof.text("backend.name") + " refused its configuration:\n" +
+    return startupError("backend " + settings.backend.name + " refused its configuration:\n" +
                         prof.locateBackendProblem(error.message));
   const backend::Capabilities& caps = backend->capabilities();
   if (lockstep && !caps.lockstep)
@@ -247,10 +255,10 @@ int main(int argc, char** argv) {
   control::LoopOptions options;
   options.lockstep = lockstep;
   options.planner_priority = 60;  // below the loop's 80 (tryRealtime)
-  options.telemetry_capacity = static_cast<std::size_t>(prof.integer("telemetry.ring_frames"));
+  options.telemetry_capacity = settings.telemetry_ring_frames;
   std::unique_ptr<control::ControlLoop> loop;
   try {
-    loop = std::make_unique<control::ControlLoop>(*model, *backend, *ctx.settings, options);
+    loop = std::make_unique<control::ControlLoop>(*model, *backend, ctx.settings, options);
   } catch (const std::exception& e) {
     backend->stop();
     return startupError(e.what());
@@ -258,11 +266,11 @@ int main(int argc, char** argv) {
   control::TelemetryWriter writer(loop->telemetryRing(), loop->jointNames());
   loop->setTelemetryWriter(&writer);
   writer.start();
-  if (const std::string file = prof.text("telemetry.record_on_start"); !file.empty()) {
+  if (const std::string& file = settings.record_on_start; !file.empty()) {
     std::string why;
     if (!writer.startRecording(file, why)) {
       backend->stop();
-      return startupError(prof.problem("telemetry.record_on_start", why));
+      return startupError(problem(&settings.record_on_start, why));
     }
   }
   loop->attachPlanner(planner.get());
@@ -272,7 +280,7 @@ int main(int argc, char** argv) {
   ctx.writer = &writer;
 
   // ---- 5. server (this thread), loop thread
-  server::Server server(ctx, server::serverConfig(prof, socketPath));
+  server::Server server(ctx, server::serverConfig(settings, socketPath));
   try {
     server.open();
   } catch (const std::exception& e) {
@@ -309,6 +317,5 @@ int main(int argc, char** argv) {
                control::modeName(last.mode), last.ticks, last.timing.late_ticks,
                last.timing.skipped_periods);
   loop.reset();
-  delete ctx.settings;
   return status;
 }

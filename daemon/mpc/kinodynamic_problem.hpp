@@ -42,19 +42,21 @@
 
 namespace ballast::mpc {
 
+/// The weights, bounds and barriers the profile tunes come from it (planner.*, gait.*); the
+/// cone's regularisation and the collision barrier are the problem's own.
 struct ProblemSettings {
   Eigen::VectorXd stateWeights;      ///< diag(Q), nx
   Eigen::VectorXd inputWeights;      ///< diag(R), nu
-  double terminalWeightScale = 5.0;  ///< Q_N = scale · Q
-  double frictionCoefficient = 0.6;  ///< μ
+  double terminalWeightScale;        ///< Q_N = scale · Q
+  double frictionCoefficient;        ///< μ
   double frictionRegularization = 1.0;  ///< ε² in the cone, N²
-  double minNormalForce = 0.0;       ///< N
-  double maxNormalForce = 1000.0;    ///< N
-  double minFeetDistance = 0.12;     ///< m
-  double jointLimitMargin = 0.05;    ///< rad kept from each URDF limit
-  double swingPositionGain = 20.0;   ///< k_p of the swing velocity condition, 1/s
-  RelaxedBarrier frictionBarrier{0.1, 5.0};  ///< on force terms (N)
-  RelaxedBarrier limitBarrier{0.1, 0.02};    ///< on joint limits (rad, rad/s)
+  double minNormalForce;             ///< N
+  double maxNormalForce;             ///< N
+  double minFeetDistance;            ///< m
+  double jointLimitMargin;           ///< rad kept from each URDF limit
+  double swingPositionGain;          ///< k_p of the swing velocity condition, 1/s
+  RelaxedBarrier frictionBarrier;    ///< on force terms (N)
+  RelaxedBarrier limitBarrier;       ///< on joint limits (rad, rad/s)
   RelaxedBarrier collisionBarrier{0.1, 0.005};  ///< on squared distance (m²)
 };
 

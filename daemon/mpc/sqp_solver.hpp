@@ -28,10 +28,11 @@
 
 namespace ballast::mpc {
 
+/// The grid and threads come from the profile (planner.*); the line search's constants are ours.
 struct SqpSettings {
-  int nodes = 50;       ///< N; horizon = N·dt
-  double dt = 0.02;     ///< s
-  int threads = 2;      ///< cores used for linearisation and projection
+  int nodes;            ///< N; horizon = N·dt
+  double dt;            ///< s
+  int threads;          ///< cores used for linearisation and projection
   double stepDecay = 0.5;
   double minStep = 1e-3;
   double constraintLarge = 1e-2;   ///< above: a step must reduce the violation (OCS2 g_max)

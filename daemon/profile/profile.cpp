@@ -37,121 +37,26 @@ Origin originOf(const YAML::Node& node, const std::string& file) {
   return Origin{file, m.line + 1, m.column + 1};
 }
 
-std::string quote(const YAML::Node& node) {
-  if (node.IsScalar()) return "'" + node.Scalar() + "'";
-  if (node.IsSequence()) return "a list";
-  if (node.IsMap()) return "a map";
-  return "nothing";
+std::string quote(const YAML::Node& node) { return schema::describe(node); }
+
+/// A value of key k ("" if fine, else what is wrong; mark and key of the part at fault).
+bool check(const Key& k, const YAML::Node& node, schema::Problem& problem) {
+  schema::Value v;
+  return schema::read(k, node, v, problem);
 }
 
-std::string boundsText(const Key& k) {
-  std::ostringstream b;
-  b << "[" << k.min << ", " << k.max << "]" << (*k.unit ? " " : "") << k.unit;
-  return b.str();
+/// The value of a key, read (the loader checked it).
+schema::Value valueOf(const Key& k, const YAML::Node& node) {
+  schema::Value v;
+  schema::Problem problem;
+  if (!schema::read(k, node, v, problem))
+    throw std::logic_error(std::string("profile value of ") + k.name + ": " + problem.what);
+  return v;
 }
 
-/// One number (or integer) of key k from a scalar; "" if fine, else what is wrong.
-std::string parseNumber(const Key& k, const YAML::Node& node, bool integer, double& out) {
-  if (!node.IsScalar())
-    return std::string("expected ") + (integer ? "an integer" : "a number") + ", got " +
-           quote(node);
-  std::string s = node.Scalar();
-  double scale = 1.0;
-  const bool angle = std::string(k.unit) == "rad";
-  if (angle && s.size() > 3 && s.compare(s.size() - 3, 3, "deg") == 0) {
-    s.resize(s.size() - 3);
-    scale = kDegree;
-  }
-  errno = 0;
-  char* end = nullptr;
-  const double v = integer ? static_cast<double>(std::strtoll(s.c_str(), &end, 10))
-                           : std::strtod(s.c_str(), &end);
-  if (s.empty() || end != s.c_str() + s.size() || errno == ERANGE || !std::isfinite(v))
-    return std::string("expected ") + (integer ? "an integer" : "a number") +
-           (angle ? " (rad, or with a deg suffix)" : "") + ", got " + quote(node);
-  out = v * scale;
-  if (out < k.min || out > k.max) {
-    std::ostringstream m;
-    m << node.Scalar() << " is out of range " << boundsText(k);
-    return m.str();
-  }
-  return "";
-}
-
-std::string checkScalarText(const YAML::Node& node, std::string& out) {
-  if (!node.IsScalar()) return "expected a string, got " + quote(node);
-  out = node.Scalar();
-  return "";
-}
-
-std::string checkChoice(const Key& k, const YAML::Node& node) {
-  std::string v;
-  if (auto e = checkScalarText(node, v); !e.empty()) return e;
-  std::stringstream choices(k.unit);
-  for (std::string c; std::getline(choices, c, '|');)
-    if (c == v) return "";
-  std::string list = k.unit;
-  for (char& c : list)
-    if (c == '|') c = ',';
-  return "'" + v + "' is not one of " + list;
-}
-
-std::string checkBool(const YAML::Node& node) {
-  bool b;
-  if (!node.IsScalar() || !YAML::convert<bool>::decode(node, b))
-    return "expected true or false, got " + quote(node);
-  return "";
-}
-
-/// Checks a value (not a map or section) against its key. Returns "" or the problem.
-std::string checkLeaf(const Key& k, const YAML::Node& node) {
-  double x;
-  std::string s;
-  switch (k.type) {
-    case KeyType::kBool:
-      return checkBool(node);
-    case KeyType::kInt:
-      return parseNumber(k, node, true, x);
-    case KeyType::kNumber:
-      return parseNumber(k, node, false, x);
-    case KeyType::kString:
-    case KeyType::kPath:
-      return checkScalarText(node, s);
-    case KeyType::kEnum:
-      return checkChoice(k, node);
-    case KeyType::kNumberList:
-    case KeyType::kIntList:
-    case KeyType::kStringList:
-    case KeyType::kPathList: {
-      const bool numeric = k.type == KeyType::kNumberList || k.type == KeyType::kIntList;
-      const std::string what = numeric ? (k.type == KeyType::kIntList ? "integers" : "numbers")
-                                       : (k.type == KeyType::kPathList ? "paths" : "strings");
-      if (!node.IsSequence()) return "expected a list of " + what + ", got " + quote(node);
-      if (k.length && static_cast<int>(node.size()) != k.length)
-        return "expected a list of " + std::to_string(k.length) + " " + what + ", got " +
-               std::to_string(node.size());
-      for (std::size_t i = 0; i < node.size(); ++i) {
-        const std::string e = numeric ? parseNumber(k, node[i], k.type == KeyType::kIntList, x)
-                                      : checkScalarText(node[i], s);
-        if (!e.empty()) return "element " + std::to_string(i + 1) + ": " + e;
-      }
-      return "";
-    }
-    default:
-      return "internal: not a leaf type";
-  }
-}
-
-/// Checks one entry of a map key.
-std::string checkEntry(const Key& k, const YAML::Node& node) {
-  double x;
-  std::string s;
-  if (k.type == KeyType::kNumberMap) return parseNumber(k, node, false, x);
-  if (!node.IsSequence()) return "expected a list of names, got " + quote(node);
-  for (std::size_t i = 0; i < node.size(); ++i)
-    if (auto e = checkScalarText(node[i], s); !e.empty())
-      return "element " + std::to_string(i + 1) + ": " + e;
-  return "";
+/// The name of a backend's own section: "backend.<name>".
+std::string backendSectionName(const std::string& backend) {
+  return Key{backendKey()}.section() + "." + backend;
 }
 
 std::string resolvePath(const std::string& value, const std::string& file) {
@@ -231,10 +136,11 @@ class Loader {
       return;
     }
     stack_.push_back(canonical);
-    if (const YAML::Node base = root["extends"]) {
-      std::string name;
-      if (auto e = checkScalarText(base, name); !e.empty()) {
-        problem(base, path, "extends", e);
+    if (const YAML::Node base = root[extendsKey()]) {
+      schema::Problem bad;
+      const std::string name = base.IsScalar() ? base.Scalar() : "";
+      if (!check(*findKey(extendsKey()), base, bad)) {
+        problem(bad.mark, path, extendsKey(), bad.what);
       } else if (!name.empty()) {
         std::vector<std::string> dirs{fs::path(path).parent_path().string()};
         dirs.insert(dirs.end(), dirs_.begin(), dirs_.end());
@@ -245,7 +151,7 @@ class Loader {
               isPath ? resolvePath(name, path) : resolveProfile(name, dirs);
           file(basePath, false);
         } catch (const ProfileError& e) {
-          problem(base, path, "extends", e.what());
+          problem(base, path, extendsKey(), e.what());
         }
       }
     }
@@ -255,42 +161,46 @@ class Loader {
 
   void finish() {
     // Defaults under everything.
-    for (const Key& k : schema()) {
-      if (k.isMap()) {
-        auto& entries = p_.maps_[k.name];
-        const YAML::Node def = YAML::Load(k.fallback);
+    for (const Key* k : table().keys()) {
+      if (k->isMap()) {
+        auto& entries = p_.maps_[k->name];
+        const YAML::Node def = YAML::Load(k->defaultYaml);
         for (const auto& kv : def)
           entries.emplace(kv.first.Scalar(), Profile::Setting{kv.second, Origin{}});
         continue;
       }
-      if (p_.leaves_.count(k.name)) continue;
-      const YAML::Node def = *k.fallback ? YAML::Load(k.fallback) : YAML::Node(std::string());
-      if (const std::string e = checkLeaf(k, def); !e.empty())
-        throw std::logic_error(std::string("schema default of ") + k.name + ": " + e);
-      p_.leaves_[k.name] = Profile::Setting{def, Origin{}};
+      if (p_.leaves_.count(k->name)) continue;
+      const YAML::Node def = *k->defaultYaml ? YAML::Load(k->defaultYaml) : YAML::Node(std::string());
+      if (schema::Problem bad; !check(*k, def, bad))
+        throw std::logic_error(std::string("schema default of ") + k->name + ": " + bad.what);
+      p_.leaves_[k->name] = Profile::Setting{def, Origin{}};
     }
-    const std::string backend = p_.leaves_.at("backend.name").node.Scalar();
+    const std::string backend = p_.leaves_.at(backendKey()).node.Scalar();
     for (const auto& [name, origin] : top_backend_sections_)
-      if (name != "backend." + backend)
+      if (name != backendSectionName(backend))
         problems_.push_back(origin.str() + ": " + name +
-                            ": unknown key: the backend's own section is named after "
-                            "backend.name (backend." +
-                            backend + ")");
-    if (problems_.empty() && p_.leaves_.at("robot.urdf").node.Scalar().empty())
-      problems_.push_back(p_.path_ + ": robot.urdf: required: the robot model (URDF) to control");
+                            ": unknown key: the backend's own section is named after " +
+                            backendKey() + " (" + backendSectionName(backend) + ")");
+    if (problems_.empty() && p_.leaves_.at(urdfKey()).node.Scalar().empty())
+      problems_.push_back(p_.path_ + ": " + urdfKey() + ": required: the robot model (URDF) to control");
     if (!problems_.empty()) throw ProfileError(problems_);
   }
 
  private:
   void problem(const YAML::Node& node, const std::string& file, const std::string& key,
                const std::string& what) {
-    problems_.push_back(originOf(node, file).str() + ": " + (key.empty() ? "" : key + ": ") + what);
+    problem(node.Mark(), file, key, what);
+  }
+  void problem(const YAML::Mark& mark, const std::string& file, const std::string& key,
+               const std::string& what) {
+    const Origin at{file, mark.line + 1, mark.column + 1};
+    problems_.push_back(at.str() + ": " + (key.empty() ? "" : key + ": ") + what);
   }
 
   /// A YAML map at `prefix` ("" for the root) in `file`.
   void overlayMap(const YAML::Node& map, const std::string& prefix, const std::string& file,
                   bool top) {
-    std::set<std::string> seen;
+    std::map<std::string, YAML::Mark> seen;
     for (const auto& kv : map) {
       const YAML::Node& keyNode = kv.first;
       if (!keyNode.IsScalar()) {
@@ -298,11 +208,13 @@ class Loader {
         continue;
       }
       const std::string key = prefix.empty() ? keyNode.Scalar() : prefix + "." + keyNode.Scalar();
-      if (!seen.insert(keyNode.Scalar()).second) {
-        problem(keyNode, file, key, "duplicate key");
+      if (const auto first = seen.find(keyNode.Scalar()); first != seen.end()) {
+        problem(keyNode, file, key,
+                "given twice (first at " + Origin{file, first->second.line + 1, first->second.column + 1}.str() + ")");
         continue;
       }
-      if (key == "extends") continue;  // handled by file()
+      seen.emplace(keyNode.Scalar(), keyNode.Mark());
+      if (key == extendsKey()) continue;  // handled by file()
       overlayValue(keyNode, kv.second, key, file, top);
     }
   }
@@ -313,38 +225,43 @@ class Loader {
       if (k->isMap()) {
         if (value.IsNull()) return;
         if (!value.IsMap()) {
-          problem(value, file, key,
-                  std::string("expected a map (") + typeName(k->type) + "), got " + quote(value));
+          schema::Problem bad;
+          check(*k, value, bad);
+          problem(bad.mark, file, bad.key, bad.what);
           return;
         }
         auto& entries = p_.maps_[key];
-        std::set<std::string> seen;
+        std::map<std::string, YAML::Mark> seen;
         for (const auto& kv : value) {
           if (!kv.first.IsScalar()) {
             problem(kv.first, file, key, "keys must be names, got " + quote(kv.first));
             continue;
           }
           const std::string entry = kv.first.Scalar();
-          if (!seen.insert(entry).second) {
-            problem(kv.first, file, key + "." + entry, "duplicate key");
+          if (const auto first = seen.find(entry); first != seen.end()) {
+            problem(kv.first, file, key + "." + entry,
+                    "given twice (first at " +
+                        Origin{file, first->second.line + 1, first->second.column + 1}.str() + ")");
             continue;
           }
-          if (const std::string why = checkEntry(*k, kv.second); !why.empty()) {
-            problem(kv.second, file, key + "." + entry, why);
+          seen.emplace(entry, kv.first.Mark());
+          schema::Value v;
+          if (schema::Problem bad; !schema::readEntry(*k, entry, kv.second, v, bad)) {
+            problem(bad.mark, file, bad.key, bad.what);
             continue;
           }
           entries[entry] = Profile::Setting{kv.second, originOf(kv.first, file)};
         }
         return;
       }
-      if (const std::string why = checkLeaf(*k, value); !why.empty()) {
-        problem(value, file, key, why);
+      if (schema::Problem bad; !check(*k, value, bad)) {
+        problem(bad.mark, file, bad.key, bad.what);
         return;
       }
       YAML::Node stored;  // a fresh node: assigning to one that aliases `value` rewrites the tree
       if (k->type == KeyType::kPath) {
-        stored = scalarNode(resolvePath(value.Scalar(), file));
-      } else if (k->type == KeyType::kPathList) {
+        stored = scalarNode(resolvePath(value.IsNull() ? "" : value.Scalar(), file));
+      } else if (k->type == KeyType::kPaths) {
         stored = YAML::Node(YAML::NodeType::Sequence);
         for (std::size_t i = 0; i < value.size(); ++i)
           stored.push_back(resolvePath(value[i].Scalar(), file));
@@ -461,7 +378,7 @@ const Profile::Setting& Profile::leaf(const std::string& key,
   bool ok = false;
   for (KeyType t : types) ok |= k->type == t;
   if (!ok)
-    throw std::logic_error("profile key '" + key + "' is a " + typeName(k->type) +
+    throw std::logic_error("profile key '" + key + "' is a " + schema::typeName(k->type) +
                            ", read with the wrong getter");
   return leaves_.at(key);
 }
@@ -470,7 +387,7 @@ const std::map<std::string, Profile::Setting>& Profile::entries(const std::strin
                                                                 KeyType type) const {
   const Key* k = findKey(key);
   if (!k || k->type != type)
-    throw std::logic_error("profile key '" + key + "' is not a " + typeName(type));
+    throw std::logic_error("profile key '" + key + "' is not a " + schema::typeName(type));
   static const std::map<std::string, Setting> kEmpty;
   const auto it = maps_.find(key);
   return it == maps_.end() ? kEmpty : it->second;
@@ -481,36 +398,27 @@ bool Profile::flag(const std::string& key) const {
 }
 
 long long Profile::integer(const std::string& key) const {
-  return std::strtoll(leaf(key, {KeyType::kInt}).node.Scalar().c_str(), nullptr, 10);
+  return valueOf(*findKey(key), leaf(key, {KeyType::kInteger}).node).integer;
 }
 
 double Profile::number(const std::string& key) const {
-  double x = 0.0;
-  parseNumber(*findKey(key), leaf(key, {KeyType::kNumber}).node, false, x);
-  return x;
+  return valueOf(*findKey(key), leaf(key, {KeyType::kNumber}).node).number;
 }
 
 std::string Profile::text(const std::string& key) const {
-  return leaf(key, {KeyType::kString, KeyType::kEnum, KeyType::kPath}).node.Scalar();
+  return leaf(key, {KeyType::kString, KeyType::kChoice, KeyType::kPath}).node.Scalar();
 }
 
 std::vector<double> Profile::numbers(const std::string& key) const {
-  const YAML::Node& n = leaf(key, {KeyType::kNumberList}).node;
-  std::vector<double> out(n.size());
-  for (std::size_t i = 0; i < n.size(); ++i) parseNumber(*findKey(key), n[i], false, out[i]);
-  return out;
+  return valueOf(*findKey(key), leaf(key, {KeyType::kNumbers}).node).numbers;
 }
 
 std::vector<long long> Profile::integers(const std::string& key) const {
-  const YAML::Node& n = leaf(key, {KeyType::kIntList}).node;
-  std::vector<long long> out;
-  for (std::size_t i = 0; i < n.size(); ++i)
-    out.push_back(std::strtoll(n[i].Scalar().c_str(), nullptr, 10));
-  return out;
+  return valueOf(*findKey(key), leaf(key, {KeyType::kIntegers}).node).integers;
 }
 
 std::vector<std::string> Profile::strings(const std::string& key) const {
-  const YAML::Node& n = leaf(key, {KeyType::kStringList, KeyType::kPathList}).node;
+  const YAML::Node& n = leaf(key, {KeyType::kStrings, KeyType::kPaths}).node;
   std::vector<std::string> out;
   for (std::size_t i = 0; i < n.size(); ++i) out.push_back(n[i].Scalar());
   return out;
@@ -518,8 +426,12 @@ std::vector<std::string> Profile::strings(const std::string& key) const {
 
 std::map<std::string, double> Profile::numberMap(const std::string& key) const {
   std::map<std::string, double> out;
-  for (const auto& [name, s] : entries(key, KeyType::kNumberMap))
-    parseNumber(*findKey(key), s.node, false, out[name]);
+  for (const auto& [name, s] : entries(key, KeyType::kNumberMap)) {
+    schema::Value v;
+    schema::Problem bad;
+    schema::readEntry(*findKey(key), name, s.node, v, bad);
+    out[name] = v.numberMap[name];
+  }
   return out;
 }
 
@@ -530,6 +442,16 @@ std::map<std::string, std::vector<std::string>> Profile::groupMap(const std::str
     for (std::size_t i = 0; i < s.node.size(); ++i) list.push_back(s.node[i].Scalar());
   }
   return out;
+}
+
+YAML::Node Profile::value(const std::string& key) const {
+  const Key* k = findKey(key);
+  if (!k) throw std::logic_error("profile key '" + key + "' is not in the schema");
+  if (!k->isMap()) return leaves_.at(key).node;
+  YAML::Node map(YAML::NodeType::Map);
+  if (const auto it = maps_.find(key); it != maps_.end())
+    for (const auto& [entry, s] : it->second) map[entry] = s.node;
+  return map;
 }
 
 Origin Profile::origin(const std::string& key) const {
@@ -583,7 +505,7 @@ std::string flow(const YAML::Node& n) {
 }  // namespace
 
 Profile::BackendSection Profile::backendSection() const {
-  const std::string key = "backend." + text("backend.name");
+  const std::string key = backendSectionName(text(backendKey()));
   const auto it = maps_.find(key);
   if (it == maps_.end() || it->second.empty()) return {"{}", ""};
   // Verbatim if every key of the merged section comes from the file the text was taken from.
@@ -600,7 +522,7 @@ Profile::BackendSection Profile::backendSection() const {
 }
 
 std::string Profile::locateBackendProblem(const std::string& message) const {
-  const auto it = maps_.find("backend." + text("backend.name"));
+  const auto it = maps_.find(backendSectionName(text(backendKey())));
   if (it == maps_.end()) return message;
   // Messages read "file:line:column: key: what"; find the key after the location.
   std::size_t pos = 0;
@@ -629,8 +551,8 @@ std::string Profile::describe() const {
     const std::string leafName = dot == std::string::npos ? name : name.substr(dot + 1);
     if (sec != section) {
       if (section == "backend") {
-        const std::string b = "backend." + text("backend.name");
-        out << "  " << text("backend.name") << ":  # " << origin(b).str() << "\n";
+        const std::string b = backendSectionName(text(backendKey()));
+        out << "  " << text(backendKey()) << ":  # " << origin(b).str() << "\n";
         YAML::Emitter e;
         if (const auto it = maps_.find(b); it != maps_.end()) e << unflatten(it->second);
         std::istringstream yaml(e.c_str());
@@ -668,14 +590,14 @@ std::vector<std::string> Profile::restartChanges(const Profile& a, const Profile
     if (va != vb) changed.push_back(std::string(k.name) + " (" + va + " -> " + vb + ")");
   }
   auto section = [](const Profile& p) {
-    const auto it = p.maps_.find("backend." + p.text("backend.name"));
+    const auto it = p.maps_.find(backendSectionName(p.text(backendKey())));
     std::string all;
     if (it != p.maps_.end())
       for (const auto& [sub, s] : it->second) all += sub + "=" + flow(s.node) + ";";
     return all;
   };
-  if (a.text("backend.name") == b.text("backend.name") && section(a) != section(b))
-    changed.push_back("backend." + a.text("backend.name"));
+  if (a.text(backendKey()) == b.text(backendKey()) && section(a) != section(b))
+    changed.push_back(backendSectionName(a.text(backendKey())));
   return changed;
 }
 

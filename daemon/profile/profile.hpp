@@ -6,8 +6,9 @@
 // the caller decides what that means (ballastd refuses to start; a switch at run time keeps
 // the running profile).
 //
-// Getters take a key declared in the schema and of the matching type; anything else is a
-// programming error (std::logic_error), so a typo in code fails the first test that runs it.
+// The daemon reads a profile through its settings (settings.hpp: the schema fills them). The
+// getters below, for tests and tools, take a key declared in the schema and of the matching
+// type; anything else is a programming error (std::logic_error).
 #pragma once
 
 #include <map>
@@ -58,6 +59,9 @@ class Profile {
   std::vector<std::string> strings(const std::string& key) const;
   std::map<std::string, double> numberMap(const std::string& key) const;
   std::map<std::string, std::vector<std::string>> groupMap(const std::string& key) const;
+
+  /// The merged value of a declared key, as YAML (a map key's entries gathered in one map).
+  YAML::Node value(const std::string& key) const;
 
   Origin origin(const std::string& key) const;
   /// Origin of one entry of a map key.

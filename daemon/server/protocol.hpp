@@ -83,7 +83,7 @@ inline constexpr Field kWalkFields[] = {
     {"vy", FieldType::kNumber, -5, 5, false, "sideways velocity (left), m/s"},
     {"yaw_rate", FieldType::kNumber, -10, 10, false, "turning rate (counter-clockwise), rad/s"},
     {"ttl", FieldType::kNumber, 0.001, 86400, false,
-     "controller seconds the velocity holds (default: the profile's safety.command_ttl)"}};
+     "controller seconds the velocity holds (default: the profile's command ttl)"}};
 inline constexpr Field kPoseFields[] = {
     {"height", FieldType::kNumber, 0, 5, false, "base height above the feet, m (default nominal)"},
     {"roll", FieldType::kNumber, -kPi, kPi, false, "rad"},

@@ -144,20 +144,22 @@ double numberOr(const json& r, const char* key, double fallback) {
 
 }  // namespace
 
-ServerConfig serverConfig(const profile::Profile& p, const std::string& socket_override) {
-  ServerConfig c;
-  c.socket_path = !socket_override.empty()           ? socket_override
-                  : !p.text("server.socket").empty() ? p.text("server.socket")
-                                                     : protocol::defaultSocketPath();
-  for (long long uid : p.integers("server.allowed_uids"))
-    c.allowed_uids.push_back(static_cast<uid_t>(uid));
-  c.lease_timeout = p.number("server.lease_timeout");
-  c.max_message_bytes = static_cast<std::size_t>(p.integer("server.max_message_bytes"));
-  c.max_clients = static_cast<int>(p.integer("server.max_clients"));
-  c.max_watch_rate = p.number("server.max_watch_rate");
-  c.reply_timeout = p.number("server.reply_timeout");
+ServerConfig serverConfig(const profile::Settings& settings, const std::string& socket_override) {
+  ServerConfig c = settings.server;
+  if (!socket_override.empty())
+    c.socket_path = socket_override;
+  else if (c.socket_path.empty())
+    c.socket_path = protocol::defaultSocketPath();
   return c;
 }
+
+namespace {
+/// The profile key of one of the configuration's fields, for messages.
+const char* keyOf(const ServerConfig& c, const void* field) {
+  const char* key = profile::keyOf(c, field);
+  return key ? key : "?";
+}
+}  // namespace
 
 Server::Server(DaemonContext& context, ServerConfig config)
     : ctx_(context), config_(std::move(config)) {
@@ -177,7 +179,8 @@ void Server::open() {
   if (path.size() >= sizeof(addr.sun_path))
     throw std::runtime_error("socket path " + path + " is longer than " +
                              std::to_string(sizeof(addr.sun_path) - 1) +
-                             " characters: choose a shorter --socket or server.socket");
+                             " characters: choose a shorter --socket or " +
+                             keyOf(config_, &config_.socket_path));
   std::memcpy(addr.sun_path, path.c_str(), path.size() + 1);
 
   const fs::path dir = fs::path(path).parent_path();
@@ -303,17 +306,19 @@ void Server::accept() {
                          std::find(config_.allowed_uids.begin(), config_.allowed_uids.end(),
                                    cred.uid) != config_.allowed_uids.end();
     if (!allowed) {
-      spdlog::warn("refused a connection from uid {} (pid {}): not in server.allowed_uids",
-                   cred.uid, cred.pid);
+      spdlog::warn("refused a connection from uid {} (pid {}): not in {}", cred.uid, cred.pid,
+                   keyOf(config_, &config_.allowed_uids));
       refuse(protocol::kPermissionDenied,
              "uid " + std::to_string(cred.uid) +
-                 " may not use this ballastd: ask its operator to add it to server.allowed_uids");
+                 " may not use this ballastd: ask its operator to add it to " +
+                 keyOf(config_, &config_.allowed_uids));
       continue;
     }
     if (static_cast<int>(clients_.size()) >= config_.max_clients) {
       refuse(protocol::kTooManyClients, "ballastd serves at most " +
                                             std::to_string(config_.max_clients) +
-                                            " clients (server.max_clients): try again later");
+                                            " clients (" + keyOf(config_, &config_.max_clients) +
+                                            "): try again later");
       continue;
     }
     Client& c = clients_[fd];
@@ -352,7 +357,8 @@ void Server::readFrom(Client& c) {
       if (line.size() > config_.max_message_bytes) {
         fail(fd, nullptr, protocol::kTooLarge,
              "request of " + std::to_string(line.size()) + " bytes is over the limit of " +
-                 std::to_string(config_.max_message_bytes) + " (server.max_message_bytes)");
+                 std::to_string(config_.max_message_bytes) + " (" +
+                 keyOf(config_, &config_.max_message_bytes) + ")");
         continue;
       }
       handleLine(c, line);
@@ -361,7 +367,8 @@ void Server::readFrom(Client& c) {
     if (c.in.size() > config_.max_message_bytes) {
       fail(fd, nullptr, protocol::kTooLarge,
            "request is over the limit of " + std::to_string(config_.max_message_bytes) +
-               " bytes (server.max_message_bytes); it is skipped up to its end of line");
+               " bytes (" + keyOf(config_, &config_.max_message_bytes) +
+               "); it is skipped up to its end of line");
       c.in.clear();
       c.discarding = true;
     }
@@ -434,7 +441,8 @@ json Server::leaseJson() const {
 
 bool Server::checkLease(Client& c, const json& id, const json& request) {
   if (leaseExpired()) {
-    spdlog::info("the command lease of uid {} lapsed (server.lease_timeout)", lease_->uid);
+    spdlog::info("the command lease of uid {} lapsed ({})", lease_->uid,
+                 keyOf(config_, &config_.lease_timeout));
     lease_.reset();
   }
   if (!lease_) {
@@ -468,8 +476,8 @@ void Server::dispatch(Client& c, const json& id, const std::string& cmd, const j
     const double rate = numberOr(r, "rate", 10.0);
     if (rate > config_.max_watch_rate) {
       fail(c.fd, id, protocol::kOutOfRange,
-           "watch: rate " + formatNumber(rate) + " is over server.max_watch_rate " +
-               formatNumber(config_.max_watch_rate));
+           "watch: rate " + formatNumber(rate) + " is over " +
+               keyOf(config_, &config_.max_watch_rate) + " " + formatNumber(config_.max_watch_rate));
       return;
     }
     c.watch_rate = rate;
@@ -575,7 +583,7 @@ void Server::dispatch(Client& c, const json& id, const std::string& cmd, const j
   } else if (cmd == "map_load") {
     std::string error;
     const std::string path = r["path"].get<std::string>();
-    if (!ctx_.map.load(path, ctx_.profile->number("terrain.ground_height"), error)) {
+    if (!ctx_.map.load(path, ctx_.settings->ground_height, error)) {
       fail(c.fd, id, access(path.c_str(), R_OK) == 0 ? protocol::kIoError : protocol::kNotFound,
            error + "; the map in use stays");
       return;
@@ -614,9 +622,9 @@ void Server::dispatch(Client& c, const json& id, const std::string& cmd, const j
 void Server::submit(Client& c, const json& id, const std::string& cmd,
                     control::OperatorCommand command, std::unique_ptr<profile::Profile> next,
                     std::unique_ptr<TerrainMap> map) {
-  command.sequence = ++sequence_;
+  if (command.sequence == 0) command.sequence = ++sequence_;
   if (!ctx_.loop->submit(command)) {
-    if (command.settings) delete command.settings;
+    if (command.settings) ctx_.keeper.drop(command.settings);
     fail(c.fd, id, protocol::kBusy, "the control loop's command queue is full: try again");
     return;
   }
@@ -627,7 +635,8 @@ void Server::submit(Client& c, const json& id, const std::string& cmd,
   p.deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                   std::chrono::duration<double>(config_.reply_timeout));
   p.profile = std::move(next);
-  p.settings = command.settings;
+  if (command.settings) p.settings = *command.settings;
+  p.generation = ctx_.loop->status().settings_generation + 1;
   p.map = std::move(map);
 }
 
@@ -654,11 +663,10 @@ void Server::switchProfile(Client* c, const json& id, const std::string& name) {
     return;
   }
   std::unique_ptr<profile::Profile> next;
-  std::unique_ptr<control::ControlSettings> settings;
+  std::unique_ptr<profile::Settings> all;
   try {
     next = std::make_unique<profile::Profile>(profile::Profile::load(path, ctx_.profile_dirs));
-    settings =
-        std::make_unique<control::ControlSettings>(profile::buildSettings(*next, *ctx_.model));
+    all = std::make_unique<profile::Settings>(profile::settingsFor(*next, *ctx_.model));
   } catch (const profile::ProfileError& e) {
     refuse(protocol::kInvalidProfile,
            std::string(e.what()) + "\n(profile " + ctx_.profile->name() + " stays in force)");
@@ -675,27 +683,31 @@ void Server::switchProfile(Client* c, const json& id, const std::string& name) {
   }
   // The planner's terrain map (and its height grid), loaded before anything changes.
   std::unique_ptr<TerrainMap> map;
-  const std::string m = next->text("terrain.map");
-  const double ground = next->number("terrain.ground_height");
+  const std::string m = all->terrain_map;
+  const double ground = all->control.ground_height;
   if (m != ctx_.map.path() || ground != ctx_.map.heights()->ground()) {
     map = std::make_unique<TerrainMap>(ground);
     std::string error;
     if (!m.empty() && !map->load(m, ground, error)) {
-      refuse(protocol::kInvalidProfile, next->problem("terrain.map", error) + "\n(profile " +
-                                            ctx_.profile->name() + " stays in force)");
+      refuse(protocol::kInvalidProfile,
+             next->problem(profile::keyOf(*all, &all->terrain_map), error) + "\n(profile " +
+                 ctx_.profile->name() + " stays in force)");
       return;
     }
   }
   control::OperatorCommand oc;
   oc.kind = control::CommandKind::kSwitchSettings;
-  oc.settings = settings.release();
+  oc.sequence = ++sequence_;
+  oc.settings = ctx_.keeper.keep(
+      std::make_shared<const control::ControlSettings>(std::move(all->control)), oc.sequence);
   if (c) {
     submit(*c, id, "profile_use", oc, std::move(next), std::move(map));
+    if (const auto it = pending_.find(sequence_); it != pending_.end() && it->second.profile)
+      it->second.config = serverConfig(*all, config_.socket_path);
     return;
   }
-  oc.sequence = ++sequence_;
   if (!ctx_.loop->submit(oc)) {
-    delete oc.settings;
+    ctx_.keeper.drop(oc.settings);
     spdlog::error("profile reload: the control loop's command queue is full");
     return;
   }
@@ -704,8 +716,10 @@ void Server::switchProfile(Client* c, const json& id, const std::string& name) {
   p.deadline = Clock::now() + std::chrono::seconds(60);
   p.answered = true;  // nobody to answer
   p.profile = std::move(next);
-  p.settings = oc.settings;
+  p.settings = *oc.settings;
+  p.generation = ctx_.loop->status().settings_generation + 1;
   p.map = std::move(map);
+  p.config = serverConfig(*all, config_.socket_path);
 }
 
 void Server::onLoopReplies() {
@@ -724,23 +738,7 @@ void Server::onLoopReplies() {
     if (it == pending_.end()) continue;
     Pending& p = it->second;
     const bool ok = r.refusal == control::Refusal::kNone;
-    if (p.cmd == "profile_use") {
-      if (ok) {
-        delete r.retired;
-        ctx_.settings = p.settings;
-        if (ctx_.planner) ctx_.planner->requestSettings(*p.settings);
-        if (p.map) {
-          ctx_.map = std::move(*p.map);
-          if (ctx_.planner) ctx_.planner->setTerrain(ctx_.map.heights());
-        }
-        spdlog::info("profile {} in force ({})", p.profile->name(), r.message);
-        ctx_.profile = std::move(p.profile);
-        const std::string socket = config_.socket_path;
-        config_ = serverConfig(*ctx_.profile, socket);
-      } else {
-        delete p.settings;
-      }
-    }
+    if (p.cmd == "profile_use") finishSwitch(p, ok, r.message);
     if (!p.answered && clients_.count(p.client)) {
       if (ok) {
         json body = {{"mode", control::modeName(r.mode)}};
@@ -759,14 +757,46 @@ void Server::onLoopReplies() {
   }
 }
 
+void Server::finishSwitch(Pending& p, bool applied, const char* message) {
+  if (applied) {
+    ctx_.settings = p.settings;
+    if (ctx_.planner) ctx_.planner->requestSettings(*p.settings);
+    if (p.map) {
+      ctx_.map = std::move(*p.map);
+      if (ctx_.planner) ctx_.planner->setTerrain(ctx_.map.heights());
+    }
+    spdlog::info("profile {} in force ({})", p.profile->name(), message);
+    ctx_.profile = std::move(p.profile);
+    config_ = p.config;
+  }
+  p.settings.reset();  // the keeper frees them once the loop lets go
+}
+
 void Server::expirePending() {
   const auto now = Clock::now();
+  // A command the loop took whose reply never came (its reply ring was full): a switch is
+  // settled from the loop's status, so that it neither blocks later ones nor keeps settings.
+  const control::LoopStatus status = ctx_.loop->status();
+  for (auto it = pending_.begin(); it != pending_.end();) {
+    Pending& p = it->second;
+    if (now > p.deadline && it->first <= status.last_command) {
+      if (p.cmd == "profile_use")
+        finishSwitch(p, status.settings_generation >= p.generation, "its reply was lost");
+      if (!p.answered && clients_.count(p.client))
+        fail(p.client, p.id, protocol::kTimeout, "the control loop's reply was lost: check `ballast status`");
+      it = pending_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  ctx_.keeper.collect(status.last_command);
   for (auto& [seq, p] : pending_)
     if (!p.answered && now > p.deadline) {
       p.answered = true;  // the loop's late reply is still applied, just not sent
       if (clients_.count(p.client))
         fail(p.client, p.id, protocol::kTimeout,
-             "the control loop did not answer within server.reply_timeout (" +
+             std::string("the control loop did not answer within ") +
+                 keyOf(config_, &config_.reply_timeout) + " (" +
                  formatNumber(config_.reply_timeout) +
                  " s): check `ballast status` and the daemon's log");
     }
@@ -775,7 +805,8 @@ void Server::expirePending() {
 json Server::status(bool joints) {
   extras_.profile = ctx_.profile->name();
   extras_.profile_path = ctx_.profile->path();
-  extras_.contact_frames = ctx_.profile->strings("robot.contact_frames");
+  extras_.contact_frames.assign(ctx_.settings->contact_frames.begin(),
+                                ctx_.settings->contact_frames.end());
   extras_.lease = leaseJson();
   const control::LoopStatus s = ctx_.loop->status();
   extras_.recording = {
@@ -858,7 +889,7 @@ json Server::profileList() {
           {"name", name}, {"path", f.string()}, {"running", f == fs::path(ctx_.profile->path())}};
       try {
         const profile::Profile p = profile::Profile::load(f.string(), ctx_.profile_dirs);
-        item["description"] = p.text("description");
+        item["description"] = profile::readSettings(p).description;
         item["valid"] = true;
       } catch (const profile::ProfileError& e) {
         item["valid"] = false;

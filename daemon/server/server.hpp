@@ -28,23 +28,19 @@
 #include "control/mpc_planner.hpp"
 #include "control/telemetry.hpp"
 #include "profile/profile.hpp"
+#include "profile/settings.hpp"
+#include "server/server_config.hpp"
 #include "server/status_json.hpp"
 #include "server/terrain_map.hpp"
 
 namespace ballast::server {
 
-struct ServerConfig {
-  std::string socket_path;
-  std::vector<uid_t> allowed_uids;
-  double lease_timeout = 300.0;  ///< s of wall time; 0: never
-  std::size_t max_message_bytes = 65536;
-  int max_clients = 32;
-  double max_watch_rate = 100.0;
-  double reply_timeout = 2.0;
-};
-
-/// The server's settings from a profile; socket_override (from --socket) wins if not empty.
-ServerConfig serverConfig(const profile::Profile& profile, const std::string& socket_override);
+/// The server's settings from a profile's; socket_override (from --socket) wins if not empty,
+/// then the profile's socket, then the default path.
+ServerConfig serverConfig(const profile::Settings& settings, const std::string& socket_override);
+inline ServerConfig serverConfig(const profile::Profile& profile, const std::string& socket_override) {
+  return serverConfig(profile::readSettings(profile), socket_override);
+}
 
 /// What the server reaches into. Owned by ballastd's main().
 struct DaemonContext {
@@ -52,8 +48,9 @@ struct DaemonContext {
   control::ControlLoop* loop = nullptr;
   control::MpcPlanner* planner = nullptr;  ///< gets a profile switch's settings, and terrain maps
   control::TelemetryWriter* writer = nullptr;
-  std::unique_ptr<profile::Profile> profile;           ///< the running profile
-  const control::ControlSettings* settings = nullptr;  ///< the loop's; freed when retired
+  std::unique_ptr<profile::Profile> profile;  ///< the running profile
+  control::SettingsPtr settings;              ///< the loop's
+  control::SettingsKeeper keeper;             ///< every settings the loop may hold
   std::vector<std::string> profile_dirs;
   std::string backend_name;
   bool simulation = false;
@@ -96,7 +93,9 @@ class Server {
     std::chrono::steady_clock::time_point deadline;
     bool answered = false;
     std::unique_ptr<profile::Profile> profile;  // profile_use: the profile being switched to
-    const control::ControlSettings* settings = nullptr;  // ... and its settings (ours until taken)
+    control::SettingsPtr settings;              // ... and its settings
+    std::uint64_t generation = 0;               // ... the loop's settings generation once taken
+    ServerConfig config;                        // ... and its server section
     std::unique_ptr<TerrainMap> map;  // ... and its terrain map, when it names another one
   };
   struct Lease {
@@ -118,6 +117,8 @@ class Server {
               std::unique_ptr<TerrainMap> map = nullptr);
   void switchProfile(Client* c, const nlohmann::json& id, const std::string& name);
   void onLoopReplies();
+  /// A profile switch the loop took (applied) or refused.
+  void finishSwitch(Pending& p, bool applied, const char* message);
   void onSignal();
   void sendWatches();
   void expirePending();

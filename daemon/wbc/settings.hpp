@@ -1,7 +1,7 @@
 // Settings of the whole-body controller: which model frames and joints the tasks use, the task
 // gains, the friction coefficient and torque limits, and the variant (the paper's hierarchical
-// cH or the weighted single QP cNH). Filled by the profile module from the profile's `wbc`
-// section; validateSettings() is the one place that checks them.
+// cH or the weighted single QP cNH). Filled by the profile schema (daemon/profile/schema.cpp:
+// every key's bounds and default); validateSettings() checks them against the model.
 //
 // Units: SI. Gains act on errors in the world frame (task space) or in joint space:
 //   commanded acceleration = reference acceleration + kp·(reference − actual) + kd·(reference rate − actual rate)
@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 
 #include "model/model.hpp"
+#include "model/settings_problem.hpp"
 
 namespace ballast::wbc {
 
@@ -25,46 +26,42 @@ enum class WbcVariant : std::uint8_t {
 const char* toString(WbcVariant variant);
 
 struct WbcSettings {
-  WbcVariant variant = WbcVariant::kHierarchical;
+  WbcVariant variant;
 
   // The robot (names as in the URDF).
-  std::string baseFrame = "pelvis";
-  std::vector<std::string> contactFrames{"left_toe", "left_heel", "right_toe", "right_heel"};
+  std::string baseFrame;
+  std::vector<std::string> contactFrames;
   /// Joints tracked in joint space at priority 2 (the arms); the legs follow their feet.
-  std::vector<std::string> jointSpaceJoints{
-      "left_shoulder_pitch",  "left_shoulder_roll",  "left_shoulder_yaw",  "left_elbow",
-      "left_wrist_yaw",       "left_wrist_pitch",    "right_shoulder_pitch", "right_shoulder_roll",
-      "right_shoulder_yaw",   "right_elbow",         "right_wrist_yaw",    "right_wrist_pitch"};
+  std::vector<std::string> jointSpaceJoints;
 
   // Priority 2: limb motion tracking.
-  double swingKp = 400.0;  ///< 1/s², swing contact points, world frame
-  double swingKd = 40.0;   ///< 1/s
-  double jointKp = 400.0;  ///< 1/s², joint-space joints
-  double jointKd = 40.0;   ///< 1/s
+  double swingKp;  ///< 1/s², swing contact points, world frame
+  double swingKd;  ///< 1/s
+  double jointKp;  ///< 1/s², joint-space joints
+  double jointKd;  ///< 1/s
   // Priority 3: base motion tracking, [position (world x, y, z); orientation (world axes)].
-  std::array<double, 6> baseKp{400.0, 400.0, 400.0, 400.0, 400.0, 400.0};
-  std::array<double, 6> baseKd{40.0, 40.0, 40.0, 40.0, 40.0, 40.0};
+  std::array<double, 6> baseKp;
+  std::array<double, 6> baseKd;
 
   // Priority 1: friction pyramid (C_fr of the paper, normal = world z) and torque limits.
-  double frictionCoefficient = 0.6;
+  double frictionCoefficient;
   /// |τ_j| ≤ torqueLimit[j], in the model's joint order; empty: the URDF effort limits.
   std::vector<double> torqueLimit;
 
   // The weighted variant: weights of the squared task errors (limb, base, contact force).
-  double limbWeight = 100.0;
-  double baseWeight = 10.0;
-  double contactForceWeight = 1e-3;
+  double limbWeight;
+  double baseWeight;
+  double contactForceWeight;
 
   /// Regularisation λ of every QP, in the scaled decision units (accelerations in m/s², rad/s²;
   /// contact forces in units of m·g / number of contact points).
-  double regularization = 1e-8;
-  int maxQpIterations = 200;
+  double regularization;
+  int maxQpIterations;
   /// Control period (s): the joint targets for the motors' PD are the mean over one period.
-  double period = 0.001;
+  double period;
 };
 
-/// "" if the settings fit the model, otherwise one message naming the field (the profile key,
-/// e.g. "wbc.friction_coefficient") and what is wrong.
-std::string validateSettings(const WbcSettings& settings, const model::Model& model);
+/// No problem if the settings fit the model; otherwise the field at fault and what is wrong.
+model::SettingsProblem validateSettings(const WbcSettings& settings, const model::Model& model);
 
 }  // namespace ballast::wbc

@@ -26,14 +26,28 @@ const char* toString(WbcStatus status) {
 namespace {
 constexpr int kFrictionRows = 5;  // rows of C_lc per contact point
 
+/// What the controller keeps of its settings: the numbers and the contact frames (which never
+/// change under it); the base frame, joint-space joints and torque limits live resolved in its
+/// own storage, so taking new settings allocates nothing.
+WbcSettings numbersOf(const WbcSettings& s) {
+  WbcSettings n = s;
+  n.baseFrame.clear();
+  n.jointSpaceJoints.clear();
+  n.torqueLimit.clear();
+  return n;
+}
+
 const WbcSettings& validated(const WbcSettings& settings, const model::Model& model) {
-  const std::string error = validateSettings(settings, model);
-  if (!error.empty()) throw std::invalid_argument(error);
+  if (const model::SettingsProblem problem = validateSettings(settings, model))
+    throw std::invalid_argument(problem.message);
   return settings;
 }
 
-int limbRows(const WbcSettings& s) { return 3 * static_cast<int>(s.contactFrames.size()) +
-                                            static_cast<int>(s.jointSpaceJoints.size()); }
+// Room for every joint in joint space: a profile switch may change which joints are, and the
+// controller must not allocate then.
+int limbRows(const model::Model& m, const WbcSettings& s) {
+  return 3 * static_cast<int>(s.contactFrames.size()) + m.nj();
+}
 /// Contact points on the same body (toe and heel of a foot): index pairs into contactFrames.
 std::vector<std::pair<int, int>> sameBodyPairs(const model::Model& m, const WbcSettings& s) {
   std::vector<std::pair<int, int>> pairs;
@@ -53,19 +67,19 @@ int physicsRows(const model::Model& m, const WbcSettings& s) {
 }
 int maxLevelRows(const model::Model& m, const WbcSettings& s) {
   const int nc3 = 3 * static_cast<int>(s.contactFrames.size());
-  return std::max(physicsRows(m, s), limbRows(s) + 6 + nc3);
+  return std::max(physicsRows(m, s), limbRows(m, s) + 6 + nc3);
 }
 int inequalityRows(const model::Model& m, const WbcSettings& s) {
   return m.nj() + kFrictionRows * static_cast<int>(s.contactFrames.size());
 }
 int equalityRows(const model::Model& m, const WbcSettings& s) {
-  return physicsRows(m, s) + 2 * (limbRows(s) + 6 + 3 * static_cast<int>(s.contactFrames.size()));
+  return physicsRows(m, s) + 2 * (limbRows(m, s) + 6 + 3 * static_cast<int>(s.contactFrames.size()));
 }
 }  // namespace
 
 WholeBodyController::WholeBodyController(const model::Model& model, const WbcSettings& settings)
     : model_(model),
-      settings_(validated(settings, model)),
+      settings_(numbersOf(validated(settings, model))),
       nv_(model.nv),
       nj_(model.nj()),
       nc_(static_cast<int>(settings.contactFrames.size())),
@@ -75,13 +89,12 @@ WholeBodyController::WholeBodyController(const model::Model& model, const WbcSet
       tasks_(nx_, kStackLevels, equalityRows(model, settings), inequalityRows(model, settings)),
       weighted_(nx_, kStackLevels, equalityRows(model, settings), inequalityRows(model, settings)),
       hqp_(nx_, kStackLevels, maxLevelRows(model, settings), inequalityRows(model, settings)) {
-  for (const auto& name : settings_.contactFrames) contactFrames_.push_back(model.frameId(name));
-  footPairs_ = sameBodyPairs(model, settings_);
+  for (const auto& name : settings.contactFrames) contactFrames_.push_back(model.frameId(name));
+  footPairs_ = sameBodyPairs(model, settings);
   Jframe_.setZero(6, nv_);
-  for (const auto& name : settings_.jointSpaceJoints) jointSpaceJoints_.push_back(model.jointId(name));
-  torqueLimit_ = settings_.torqueLimit.empty()
-                     ? model.effortLimit
-                     : Eigen::Map<const Eigen::VectorXd>(settings_.torqueLimit.data(), nj_).eval();
+  jointSpaceJoints_.reserve(nj_);
+  torqueLimit_.resize(nj_);
+  resolve(settings);
   q_.setZero(model.nq);
   Jc_.setZero(3 * nc_, nv_);
   contactBias_.setZero(3 * nc_);
@@ -90,13 +103,44 @@ WholeBodyController::WholeBodyController(const model::Model& model, const WbcSet
   Jb_.setZero(6, nv_);
   xi_.setZero(nx_);
 
-  HqpSettings& hs = hqp_.settings();
-  hs.regularization = settings_.regularization;
-  hs.qp.maxIterations = settings_.maxQpIterations;
   const double forceScale = model.totalMass() * model.gravity.norm() / nc_;
   Eigen::VectorXd scale = Eigen::VectorXd::Ones(nx_);
   scale.tail(3 * nc_).setConstant(forceScale > 0.0 ? forceScale : 1.0);
   hqp_.setVariableScale(scale);
+}
+
+void WholeBodyController::resolve(const WbcSettings& s) {
+  // The numbers; the names become indices (in storage sized at construction).
+  settings_.variant = s.variant;
+  settings_.swingKp = s.swingKp;
+  settings_.swingKd = s.swingKd;
+  settings_.jointKp = s.jointKp;
+  settings_.jointKd = s.jointKd;
+  settings_.baseKp = s.baseKp;
+  settings_.baseKd = s.baseKd;
+  settings_.frictionCoefficient = s.frictionCoefficient;
+  settings_.limbWeight = s.limbWeight;
+  settings_.baseWeight = s.baseWeight;
+  settings_.contactForceWeight = s.contactForceWeight;
+  settings_.regularization = s.regularization;
+  settings_.maxQpIterations = s.maxQpIterations;
+  settings_.period = s.period;
+  baseFrame_ = model_.findFrame(s.baseFrame);
+  jointSpaceJoints_.clear();
+  for (const auto& name : s.jointSpaceJoints) jointSpaceJoints_.push_back(model_.findJoint(name));
+  for (int j = 0; j < nj_; ++j)
+    torqueLimit_[j] = s.torqueLimit.empty() ? model_.effortLimit[j] : s.torqueLimit[j];
+  HqpSettings& hs = hqp_.settings();
+  hs.regularization = s.regularization;
+  hs.qp.maxIterations = s.maxQpIterations;
+}
+
+bool WholeBodyController::setSettings(const WbcSettings& s) {
+  if (static_cast<int>(s.contactFrames.size()) != nc_) return false;
+  for (int i = 0; i < nc_; ++i)
+    if (model_.findFrame(s.contactFrames[i]) != contactFrames_[i]) return false;
+  resolve(s);
+  return true;
 }
 
 WbcState WholeBodyController::makeState() const {

@@ -66,7 +66,17 @@ class WholeBodyController {
   /// One control tick; allocates nothing. Returns output.status.
   WbcStatus update(const WbcState& state, const WbcReference& reference, WbcOutput& output);
 
+  /// A profile switch: new gains, weights, limits, variant, base frame and joint-space joints,
+  /// allocating nothing. The settings must have passed validateSettings() for this model; false
+  /// (nothing changed) when their contact frames differ (those need a new controller).
+  bool setSettings(const WbcSettings& settings);
+
+  /// The numbers and contact frames in force (base frame, joint-space joints and torque limits
+  /// are resolved: baseFrame(), torqueLimit()).
   const WbcSettings& settings() const { return settings_; }
+  int baseFrame() const { return baseFrame_; }
+  /// Model frame of each contact point, in the settings' order.
+  const std::vector<int>& contactFrames() const { return contactFrames_; }
   int contactCount() const { return nc_; }
   int decisionSize() const { return nx_; }
   /// The last tick's hierarchical task stack (levels as WbcStackLevel, unweighted, in ξ units),
@@ -79,6 +89,7 @@ class WholeBodyController {
   const Eigen::VectorXd& torqueLimit() const { return torqueLimit_; }
 
  private:
+  void resolve(const WbcSettings& settings);
   bool inputValid(const WbcState& state, const WbcReference& reference) const;
   void computeKinematics(const WbcState& state);
   void buildTasks(const WbcState& state, const WbcReference& reference);
@@ -86,7 +97,7 @@ class WholeBodyController {
   void fail(const WbcState& state, WbcOutput& output) const;
 
   const model::Model& model_;
-  WbcSettings settings_;
+  WbcSettings settings_;  // numbers only (numbersOf)
   int nv_, nj_, nc_, nx_;
   int baseFrame_;
   std::vector<int> contactFrames_;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "test/unit/estimation/synthetic_walk.hpp"
+#include "test/unit/settings_support.hpp"
 
 namespace {
 
@@ -18,7 +19,7 @@ const std::vector<EstimatorInput>& walkInputs() {
     const model::Model& m = test::humanoid();
     test::SyntheticWalk motion(m);
     test::SyntheticSensors sensors(motion, test::SensorNoise{}, 3);
-    StateEstimator est(m, EstimatorSettings{});
+    StateEstimator est(m, test::estimatorSettings());
     std::vector<EstimatorInput> in(2000, est.makeInput());
     Eigen::VectorXd q, v;
     for (int k = 0; k < 2000; ++k) sensors.sample(0.5 + k * motion.period, in[k], q, v);
@@ -30,7 +31,7 @@ const std::vector<EstimatorInput>& walkInputs() {
 /// One full update (attitude filter, kinematics + M + n, contact forces, Kalman filter).
 void BM_EstimatorUpdate(benchmark::State& st) {
   const model::Model& m = test::humanoid();
-  EstimatorSettings settings;
+  EstimatorSettings settings = test::estimatorSettings();
   settings.contactForceCheck = false;  // the schedule decides; the observer still runs
   StateEstimator est(m, settings);
   std::vector<EstimatorInput> inputs = walkInputs();

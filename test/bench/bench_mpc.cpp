@@ -11,6 +11,7 @@
 #include "mpc/riccati_solver.hpp"
 #include "mpc/sqp_solver.hpp"
 #include "profile/settings.hpp"
+#include "test/unit/settings_support.hpp"
 
 namespace {
 
@@ -28,7 +29,7 @@ struct Setup {
   std::array<int, 4> frames{m.frameId("left_toe"), m.frameId("left_heel"), m.frameId("right_toe"),
                             m.frameId("right_heel")};
   CentroidalLayout L{m.nj(), 4};
-  mpc::ProblemSettings settings;
+  mpc::ProblemSettings settings = test::controlDefaults().locomotion.problem;
   mpc::NodeReference ref;
   Eigen::VectorXd x, u;
   Setup() {

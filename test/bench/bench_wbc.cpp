@@ -6,6 +6,7 @@
 #include <random>
 #include <vector>
 
+#include "test/unit/settings_support.hpp"
 #include "test/unit/wbc/qp_test_support.hpp"
 #include "test/unit/wbc/wbc_test_support.hpp"
 
@@ -92,14 +93,14 @@ void runTicks(benchmark::State& st, BalanceTicks& b) {
 
 /// Assembling (M, n, Jacobians, J̇v, the task stack) and solving all levels, torques included.
 void BM_WbcHierarchy(benchmark::State& st) {
-  BalanceTicks b{WbcSettings{}};
+  BalanceTicks b{test::wbcSettings()};
   runTicks(st, b);
 }
 BENCHMARK(BM_WbcHierarchy);
 
 /// The same tick under the weighted single-QP variant (cNH).
 void BM_WbcWeighted(benchmark::State& st) {
-  WbcSettings s;
+  WbcSettings s = test::wbcSettings();
   s.variant = WbcVariant::kWeighted;
   BalanceTicks b{s};
   runTicks(st, b);
@@ -108,7 +109,7 @@ BENCHMARK(BM_WbcWeighted);
 
 /// Harder ticks: a sideways base demand beyond what the feet allow, so limits bind and QPs run.
 void BM_WbcHierarchyLimitsActive(benchmark::State& st) {
-  BalanceTicks b{WbcSettings{}};
+  BalanceTicks b{test::wbcSettings()};
   for (auto& ref : b.refs) ref.baseLinearAcceleration.y() = 3.0;
   runTicks(st, b);
 }

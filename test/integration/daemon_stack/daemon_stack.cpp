@@ -11,12 +11,12 @@ namespace ballast::test {
 DaemonStack::DaemonStack(const std::string& profilePath) {
   profile_ = std::make_unique<profile::Profile>(profile::Profile::load(profilePath));
   model_ = std::make_unique<model::Model>(profile::loadModel(*profile_));
-  settings_ = std::make_unique<control::ControlSettings>(profile::buildSettings(*profile_, *model_));
-  plugin_ = backend::Plugin::load(profile_->text("backend.name"),
-                                  profile_->strings("backend.plugin_dirs"));
+  const profile::Settings all = profile::settingsFor(*profile_, *model_);
+  settings_ = std::make_shared<const control::ControlSettings>(all.control);
+  plugin_ = backend::Plugin::load(all.backend.name, all.backend.plugin_dirs);
   backend_ = plugin_->create();
   const profile::Profile::BackendSection section = profile_->backendSection();
-  const std::string urdf = profile_->text("robot.urdf"), map = profile_->text("terrain.map");
+  const std::string urdf = all.urdf, map = all.terrain_map;
   std::vector<const char*> contacts;
   for (const auto& f : settings_->contact_frames) contacts.push_back(f.c_str());
   backend::Config config;
@@ -35,17 +35,17 @@ DaemonStack::DaemonStack(const std::string& profilePath) {
   config.num_joint_models = model_->nj();
   config.period = 1.0 / settings_->rate;
   config.lockstep = true;
-  config.seed = static_cast<std::uint64_t>(profile_->integer("backend.seed"));
+  config.seed = all.backend.seed;
   backend::Error error;
   if (!backend_->configure(config, error) || !backend_->start(error))
     throw std::runtime_error(std::string("backend: ") + error.message);
-  const double ground = profile_->number("terrain.ground_height");
+  const double ground = all.control.ground_height;
   const auto heights = std::make_shared<const terrain::HeightMap>(
       map.empty() ? terrain::HeightMap(ground) : terrain::HeightMap::fromFile(map, ground));
   planner_ = std::make_unique<control::MpcPlanner>(*model_, *settings_, heights);
   control::LoopOptions options;
   options.lockstep = true;
-  loop_ = std::make_unique<control::ControlLoop>(*model_, *backend_, *settings_, options);
+  loop_ = std::make_unique<control::ControlLoop>(*model_, *backend_, settings_, options);
   loop_->attachPlanner(planner_.get());
 }
 

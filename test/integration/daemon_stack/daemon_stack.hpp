@@ -40,7 +40,7 @@ class DaemonStack {
  private:
   std::unique_ptr<profile::Profile> profile_;
   std::unique_ptr<model::Model> model_;
-  std::unique_ptr<control::ControlSettings> settings_;
+  std::shared_ptr<const control::ControlSettings> settings_;
   std::shared_ptr<backend::Plugin> plugin_;
   backend::BackendPtr backend_;
   std::unique_ptr<control::MpcPlanner> planner_;

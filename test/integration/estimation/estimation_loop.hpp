@@ -29,6 +29,7 @@
 #include "estimation/state_estimator.hpp"
 #include "model/algorithms.hpp"
 #include "test/integration/simulation_support.hpp"
+#include "test/unit/settings_support.hpp"
 #include "wbc/whole_body_controller.hpp"
 
 namespace ballast::test {
@@ -132,8 +133,8 @@ class EstimationLoop {
     std::string simYaml = kRealisticSensors;
     std::uint64_t seed = 7;
     bool controlOnTruth = false;  // the controller runs on the estimate unless this is set
-    estimation::EstimatorSettings estimator;
-    wbc::WbcSettings controller;
+    estimation::EstimatorSettings estimator = estimatorSettings();
+    wbc::WbcSettings controller = wbcSettings();
     double motorKp = 20.0, motorKd = 2.0;  // the motors' own PD around the WBC's targets
   };
 

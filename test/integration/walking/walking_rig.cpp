@@ -7,19 +7,13 @@
 #include "control/walking_controller.hpp"
 #include "model/base_conventions.hpp"
 #include "test/integration/simulation_support.hpp"
+#include "test/unit/settings_support.hpp"
 
 namespace ballast::test {
 
-namespace {
-const model::Model& humanoid() {
-  static const model::Model m =
-      model::loadUrdfFile(std::string(BALLAST_SOURCE_DIR) + "/urdf/humanoid.urdf");
-  return m;
-}
-}  // namespace
 
 locomotion::LocomotionSettings humanoidLocomotionSettings(const model::Model& m) {
-  locomotion::LocomotionSettings s;
+  locomotion::LocomotionSettings s = test::controlDefaults().locomotion;
   Eigen::VectorXd q = model::neutralConfiguration(m);
   for (const char* side : {"left_", "right_"}) {
     q[model::Model::qIndexOfJoint(m.jointId(std::string(side) + "hip_pitch"))] = -0.4;
@@ -53,7 +47,7 @@ WalkingRig::WalkingRig(const WalkingRigOptions& options)
   planner_ = std::make_unique<locomotion::LocomotionPlanner>(model_, settings_, ground_);
   sampler_ = std::make_unique<locomotion::PlanSampler>(model_,
                                                        locomotion::contactFrameIds(model_, settings_));
-  wbc::WbcSettings ws;
+  wbc::WbcSettings ws = test::wbcSettings();
   ws.period = 0.001;  // the simulation's tick (startHumanoidSimulation)
   wbc_ = std::make_unique<wbc::WholeBodyController>(model_, ws);
   state_ = wbc_->makeState();

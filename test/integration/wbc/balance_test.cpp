@@ -28,6 +28,7 @@
 #include "control/walking_controller.hpp"
 #include "model/algorithms.hpp"
 #include "test/integration/simulation_support.hpp"
+#include "test/unit/settings_support.hpp"
 #include "wbc/whole_body_controller.hpp"
 
 namespace ballast::test {
@@ -81,7 +82,7 @@ BalanceFigures balanceRun(WbcVariant variant, double seconds, double motorKp, do
   const std::vector<int> modelJoint = test::modelJointOfBackendJoint(m, caps);
   EXPECT_EQ(caps.num_joints, m.nj());
 
-  WbcSettings settings;
+  WbcSettings settings = wbcSettings();
   settings.variant = variant;
   settings.period = 0.001;  // the simulation's tick (startHumanoidSimulation)
   WholeBodyController wbc(m, settings);

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <list>
 #include <thread>
 
 #include "control/control_loop.hpp"
@@ -49,7 +50,7 @@ class LoopOnFake : public ::testing::Test {
     ASSERT_TRUE(backend_->start(error));
     LoopOptions options;
     options.lockstep = true;
-    loop_ = std::make_unique<ControlLoop>(test::humanoid(), *backend_, settings_, options);
+    loop_ = std::make_unique<ControlLoop>(test::humanoid(), *backend_, hand(settings_), options);
   }
   void TearDown() override {
     loop_.reset();
@@ -75,8 +76,15 @@ class LoopOnFake : public ::testing::Test {
     for (int i = 0; i < 2000 && loop_->status().mode != Mode::kStand; ++i) loop_->tick();
     return loop_->status().mode == Mode::kStand;
   }
+  /// The settings as the IO side hands them to the loop: it keeps them (the loop shares them and
+  /// frees none); the handle a switch command carries is &held_.back().
+  SettingsPtr hand(const ControlSettings& s) {
+    held_.push_back(std::make_shared<const ControlSettings>(s));
+    return held_.back();
+  }
   const char* section_ = "{}";
   ControlSettings settings_;
+  std::list<SettingsPtr> held_;
   backend::Backend* backend_ = nullptr;
   std::unique_ptr<ControlLoop> loop_;
   std::uint64_t sequence_ = 0;
@@ -105,22 +113,83 @@ TEST_F(LoopOnFake, StandsUpAndAnswersCommands) {
   EXPECT_GE(events, 2);  // passive -> stand-up -> stand
 }
 
-TEST_F(LoopOnFake, SettingsSwitchBlendsGainsAndReturnsTheOldOnes) {
+TEST_F(LoopOnFake, SettingsSwitchBlendsGainsAndTheIoSideFreesTheOldOnes) {
   OperatorCommand c;
   c.kind = CommandKind::kStand;
   command(c);
   ticks(600);
-  auto next = std::make_unique<ControlSettings>(settings_);
-  for (double& kp : next->kp) kp *= 0.5;
-  next->gain_blend_time = 0.2;
+  ControlSettings next = settings_;
+  for (double& kp : next.kp) kp *= 0.5;
+  next.gain_blend_time = 0.2;
   c.kind = CommandKind::kSwitchSettings;
-  c.settings = next.get();
+  hand(next);
+  c.settings = &held_.back();
   const CommandReply r = command(c);
   EXPECT_EQ(r.refusal, Refusal::kNone);
-  EXPECT_EQ(r.retired, &settings_);
+  EXPECT_EQ(held_.front().use_count(), 1);  // the loop let go of the old ones: the IO side frees them
+  EXPECT_EQ(held_.back().use_count(), 2);
   EXPECT_EQ(loop_->status().settings_generation, 1u);
   ticks(300);
   EXPECT_EQ(loop_->status().mode, Mode::kStand);
+}
+
+// The IO side keeps every settings it hands the loop (SettingsKeeper) and frees them once the loop
+// has let go; the loop itself never frees memory. A switch whose reply the loop cannot send (the
+// IO side reads no replies: the ring is full) leaks nothing and does not block the next one.
+TEST_F(LoopOnFake, ASwitchUnderAFullReplyRingLeaksNothing) {
+  loop_.reset();
+  SettingsKeeper keeper;
+  std::weak_ptr<const ControlSettings> first, second, third;
+  LoopOptions options;
+  options.lockstep = true;
+  options.command_capacity = 8;
+  {
+    SettingsPtr initial = std::make_shared<const ControlSettings>(settings_);
+    first = initial;
+    keeper.keep(initial, 0);
+    loop_ = std::make_unique<ControlLoop>(test::humanoid(), *backend_, std::move(initial), options);
+  }
+  ticks(3);
+  // Replies nobody reads, until the ring is full and drops them.
+  OperatorCommand stop;
+  stop.kind = CommandKind::kStop;
+  for (int i = 0; i < 16; ++i) {
+    stop.sequence = ++sequence_;
+    ASSERT_TRUE(loop_->submit(stop));
+    ticks(1);
+  }
+  auto switchTo = [&](double blend, std::weak_ptr<const ControlSettings>& watch) {
+    ControlSettings next = settings_;
+    next.gain_blend_time = blend;
+    OperatorCommand c;
+    c.kind = CommandKind::kSwitchSettings;
+    c.sequence = ++sequence_;
+    SettingsPtr p = std::make_shared<const ControlSettings>(next);
+    watch = p;
+    c.settings = keeper.keep(std::move(p), c.sequence);
+    EXPECT_TRUE(loop_->submit(c));
+    long frees = 0;
+    EXPECT_EQ(test::allocationsIn([&] { frees = test::freesIn([&] { ticks(5); }); }), 0);
+    EXPECT_EQ(frees, 0) << "the loop freed memory";
+    EXPECT_EQ(loop_->status().last_command, c.sequence);
+  };
+  switchTo(0.1, second);
+  EXPECT_EQ(loop_->status().settings_generation, 1u);
+  EXPECT_EQ(keeper.collect(loop_->status().last_command), 1u);  // the first settings
+  EXPECT_TRUE(first.expired());
+  EXPECT_FALSE(second.expired());
+  switchTo(0.2, third);  // the lost reply blocks nothing
+  EXPECT_EQ(loop_->status().settings_generation, 2u);
+  EXPECT_EQ(keeper.collect(loop_->status().last_command), 1u);
+  EXPECT_TRUE(second.expired());
+  CommandReply r;
+  int replies = 0;
+  while (loop_->popReply(r)) ++replies;
+  EXPECT_EQ(replies, 8);  // the ring's capacity: the rest, the switches' among them, were dropped
+  loop_.reset();
+  EXPECT_EQ(keeper.collect(sequence_), 1u);
+  EXPECT_TRUE(third.expired());
+  EXPECT_EQ(keeper.held(), 0u);
 }
 
 class CountingPlanner : public Planner {
@@ -262,6 +331,8 @@ TEST_F(NoAllocation, TheLoopAllocatesNothingPerTick) {
   ASSERT_TRUE(writer.startRecording(file, error)) << error;
   ControlSettings other = settings_;
   other.gain_blend_time = 0.3;
+  hand(other);
+  const SettingsPtr* otherHandle = &held_.back();
   ticks(3);  // first ticks: lazy one-time work is not the steady state
 
   long counted = 0;
@@ -301,7 +372,7 @@ TEST_F(NoAllocation, TheLoopAllocatesNothingPerTick) {
   run(c, 100);
   c = {};
   c.kind = CommandKind::kSwitchSettings;
-  c.settings = &other;
+  c.settings = otherHandle;
   run(c, 500);
   c = {};
   c.kind = CommandKind::kStop;
@@ -373,7 +444,7 @@ TEST_F(LoopOnFake, RepliesLeaveOnlyAfterTheStatusOfTheirTick) {
   WatchingBackend watcher(*backend_);
   LoopOptions options;
   options.lockstep = true;
-  loop_ = std::make_unique<ControlLoop>(test::humanoid(), watcher, settings_, options);
+  loop_ = std::make_unique<ControlLoop>(test::humanoid(), watcher, hand(settings_), options);
   watcher.loop = loop_.get();
   const CommandKind kinds[] = {CommandKind::kStand, CommandKind::kEstop, CommandKind::kReset,
                                CommandKind::kStand, CommandKind::kPassive};
@@ -394,7 +465,7 @@ TEST_F(LoopOnFake, DampSendsOnlyVelocityDampingToEveryJoint) {
   WatchingBackend watcher(*backend_);
   LoopOptions options;
   options.lockstep = true;
-  loop_ = std::make_unique<ControlLoop>(test::humanoid(), watcher, settings_, options);
+  loop_ = std::make_unique<ControlLoop>(test::humanoid(), watcher, hand(settings_), options);
   ASSERT_TRUE(standUp());
   OperatorCommand c;
   double stiffness = 0.0;

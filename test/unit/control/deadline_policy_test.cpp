@@ -104,7 +104,8 @@ class DeadlinePolicy : public ::testing::Test {
     LoopOptions options;
     options.lockstep = lockstep;
     options.clock = &fakeClock;
-    loop_ = std::make_unique<ControlLoop>(test::humanoid(), *backend_, settings_, options);
+    loop_ = std::make_unique<ControlLoop>(test::humanoid(), *backend_,
+                                          std::make_shared<const ControlSettings>(settings_), options);
     backend_->next = onTime;
     ticks(500);
     ASSERT_EQ(loop_->status().mode, Mode::kStand);

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "control/mode_machine.hpp"
+#include "test/unit/settings_support.hpp"
 
 namespace ballast::control {
 namespace {
@@ -22,7 +23,7 @@ class Modes : public ::testing::Test {
     c.kind = kind;
     return m_.handle(c, t, situation_, message_);
   }
-  ControlSettings settings_;
+  ControlSettings settings_ = test::controlDefaults();
   ModeMachine m_;
   Situation situation_;
   char message_[kMessageLength];

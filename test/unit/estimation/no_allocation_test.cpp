@@ -4,6 +4,7 @@
 
 #include "test/unit/allocation_counter.hpp"
 #include "test/unit/estimation/synthetic_walk.hpp"
+#include "test/unit/settings_support.hpp"
 
 namespace ballast::test {
 namespace {
@@ -16,8 +17,8 @@ TEST(EstimatorNoAllocation, UpdateCorrectAndSwitch) {
   const model::Model& m = humanoid();
   SyntheticWalk motion(m);
   SyntheticSensors sensors(motion, SensorNoise{}, 2);
-  estimation::StateEstimator est(m, estimation::EstimatorSettings{});
-  estimation::EstimatorSettings other;
+  estimation::StateEstimator est(m, estimatorSettings());
+  estimation::EstimatorSettings other = estimatorSettings();
   other.kinematicsVelocityNoise = 0.07;
   // Inputs prepared outside the watched region: a walk through touch-downs and lift-offs.
   const int ticks = 1500;
@@ -34,7 +35,7 @@ TEST(EstimatorNoAllocation, UpdateCorrectAndSwitch) {
     }
   });
   EXPECT_EQ(n, 0);
-  estimation::StateEstimator fresh(m, estimation::EstimatorSettings{});
+  estimation::StateEstimator fresh(m, estimatorSettings());
   n = allocationsIn([&] { fresh.update(inputs[0], out); });
   EXPECT_EQ(n, 0);
 }

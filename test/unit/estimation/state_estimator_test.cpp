@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "estimation/state_estimator.hpp"
+#include "test/unit/settings_support.hpp"
 #include "test/unit/test_support.hpp"
 
 namespace ballast::test {
@@ -55,7 +56,7 @@ struct Standing {
 
 TEST(StateEstimator, WaitsForTheImu) {
   Standing s;
-  StateEstimator est(s.m, EstimatorSettings{});
+  StateEstimator est(s.m, estimatorSettings());
   EstimatorInput in = est.makeInput();
   s.fill(in, 0.0, s.weightOnAll());
   in.imu.valid = false;
@@ -69,7 +70,7 @@ TEST(StateEstimator, WaitsForTheImu) {
 
 TEST(StateEstimator, StartsWithTheFeetOnTheTerrainAtTheGivenPlace) {
   Standing s;
-  StateEstimator est(s.m, EstimatorSettings{});
+  StateEstimator est(s.m, estimatorSettings());
   est.reset(1.5, -2.0);
   EstimatorInput in = est.makeInput();
   s.fill(in, 0.0, s.weightOnAll());
@@ -88,7 +89,7 @@ TEST(StateEstimator, StartsWithTheFeetOnTheTerrainAtTheGivenPlace) {
 
 TEST(StateEstimator, RefusesBadInputAndKeepsItsState) {
   Standing s;
-  StateEstimator est(s.m, EstimatorSettings{});
+  StateEstimator est(s.m, estimatorSettings());
   EstimatorInput in = est.makeInput();
   EstimatorOutput out;
   for (int k = 0; k < 10; ++k) {
@@ -118,7 +119,7 @@ TEST(StateEstimator, RefusesBadInputAndKeepsItsState) {
 TEST(StateEstimator, ScheduledContactNeedsTheForce) {
   // The planner schedules all four points, but the left foot carries nothing: it stays swing.
   Standing s;
-  StateEstimator est(s.m, EstimatorSettings{});
+  StateEstimator est(s.m, estimatorSettings());
   EstimatorInput in = est.makeInput();
   std::array<Vector3d, kContactPoints> force = s.weightOnAll();
   force[0] = force[1] = Vector3d::Zero();
@@ -141,7 +142,7 @@ TEST(StateEstimator, ScheduledContactNeedsTheForce) {
   EXPECT_FALSE(out.stance[2]);
   EXPECT_TRUE(out.stance[3]);
   // With the check off, the schedule alone decides.
-  EstimatorSettings scheduleOnly;
+  EstimatorSettings scheduleOnly = estimatorSettings();
   scheduleOnly.contactForceCheck = false;
   ASSERT_TRUE(est.setSettings(scheduleOnly));
   in.scheduledStance = {true, true, true, true};
@@ -153,7 +154,7 @@ TEST(StateEstimator, AFootOnItsHeelKeepsItsToeInStance) {
   // Weight on the heels (centre of pressure behind the ankles): the toes carry nothing, the
   // feet are down all the same.
   Standing s;
-  StateEstimator est(s.m, EstimatorSettings{});
+  StateEstimator est(s.m, estimatorSettings());
   EstimatorInput in = est.makeInput();
   std::array<Vector3d, kContactPoints> force = s.weightOnAll();
   force[1] += force[0];
@@ -172,7 +173,7 @@ TEST(StateEstimator, AFootOnItsHeelKeepsItsToeInStance) {
 /// its foot still loaded (a slipping foot, as the legs see it).
 double velocityDuringLeftFootSlip(double gate) {
   Standing s;
-  EstimatorSettings settings;
+  EstimatorSettings settings = estimatorSettings();
   settings.kinematicsVelocityGate = gate;
   // The gate counts in σ of the leg velocity: at 0.05 m/s, 5σ puts it at 0.25 m/s, below the
   // ~0.4 m/s this hip swing gives the foot (the default σ, 0.2, lets slower creep through).
@@ -205,7 +206,7 @@ TEST(StateEstimator, VelocityGateRejectsASlippingFoot) {
 TEST(StateEstimator, WithoutStanceItIntegratesTheImu) {
   // Free fall for 0.2 s: the accelerometer reads 0, no point is scheduled.
   Standing s;
-  StateEstimator est(s.m, EstimatorSettings{});
+  StateEstimator est(s.m, estimatorSettings());
   EstimatorInput in = est.makeInput();
   EstimatorOutput out;
   s.fill(in, 0.0, s.weightOnAll());
@@ -227,7 +228,7 @@ TEST(StateEstimator, WithoutStanceItIntegratesTheImu) {
 
 TEST(StateEstimator, ExternalPositionCorrection) {
   Standing s;
-  StateEstimator est(s.m, EstimatorSettings{});
+  StateEstimator est(s.m, estimatorSettings());
   EstimatorInput in = est.makeInput();
   EstimatorOutput out;
   Vector3d p;

@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include "test/unit/estimation/synthetic_walk.hpp"
+#include "test/unit/settings_support.hpp"
 
 namespace ballast::test {
 namespace {
@@ -73,7 +74,7 @@ WalkFigures walk(const SensorNoise& noise, const EstimatorSettings& settings, do
 }
 
 TEST(EstimatorSyntheticWalk, ConvergesAndStaysWithinTheIssueBounds) {
-  EstimatorSettings settings;
+  EstimatorSettings settings = estimatorSettings();
   settings.contactForceCheck = false;
   const WalkFigures fig = walk(SensorNoise{}, settings, 10.0, 1);
   EXPECT_GT(fig.distance, 3.0);
@@ -90,7 +91,7 @@ TEST(EstimatorSyntheticWalk, LegKinematicsAreWhatHoldsThePosition) {
   // The same walk with the legs' measurements made worthless (huge noise): position and
   // velocity then drift on the IMU alone, far outside the bounds. Shows that the bounds above
   // are met by the fusion, not by an easy trajectory.
-  EstimatorSettings settings;
+  EstimatorSettings settings = estimatorSettings();
   settings.contactForceCheck = false;
   settings.kinematicsPositionNoise = 1.0;
   settings.kinematicsVelocityNoise = 10.0;

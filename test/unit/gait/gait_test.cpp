@@ -5,11 +5,15 @@
 #include <vector>
 
 #include "gait/swing_planner.hpp"
+#include "test/unit/settings_support.hpp"
 
 namespace ballast::gait {
 namespace {
 
 constexpr double kDt = 1e-3;
+
+/// The swing planner's parameters a profile gets by default (the schema's).
+SwingPlannerParameters defaults() { return test::controlDefaults().locomotion.swing; }
 
 Gait walk(double period = 0.8, double ds = 0.2, double lead = 0.0) {
   return Gait{true, period, ds, lead};
@@ -178,7 +182,7 @@ TEST(SwingTrajectory, OverAStepTheFootRisesBeforeItMovesAndMovesBeforeItLands) {
 
 TEST(Footholds, EachTermOfTheEquation) {
   const FlatTerrain ground(0.02);
-  FootholdParameters params;
+  FootholdParameters params = defaults().foothold;
   params.nominalHeight = 0.81;
   PlanarPose base;
   base.position = {1.0, 2.0, 0.8};
@@ -244,7 +248,7 @@ class SwingPlannerTest : public ::testing::Test {
 
 TEST_F(SwingPlannerTest, WalkingForwardChainsSwingsAndStepsAhead) {
   const ContactSchedule schedule(walk(0.8, 0.2), 0.0);
-  SwingPlanner planner(SwingPlannerParameters{}, offsets);
+  SwingPlanner planner(defaults(), offsets);
   GaitState s = state();
   s.baseVelocity = {0.5, 0, 0};
   const VelocityCommand cmd{0.5, 0, 0};
@@ -265,7 +269,7 @@ TEST_F(SwingPlannerTest, WalkingForwardChainsSwingsAndStepsAhead) {
 
 TEST_F(SwingPlannerTest, ApexClearsTheTerrainAndFootholdsSitOnIt) {
   const ContactSchedule schedule(walk(0.8, 0.2), 0.0);
-  SwingPlanner planner(SwingPlannerParameters{}, offsets);
+  SwingPlanner planner(defaults(), offsets);
   GaitState s = state();
   s.base.position.x() = 0.3;
   s.baseVelocity = {0.6, 0, 0};
@@ -275,7 +279,7 @@ TEST_F(SwingPlannerTest, ApexClearsTheTerrainAndFootholdsSitOnIt) {
   ASSERT_GT(sw->touchDownPosition.x(), 0.5);
   EXPECT_DOUBLE_EQ(sw->touchDownPosition.z(), 0.10);
   EXPECT_NEAR(sw->apexHeight, 0.18, 1e-12);
-  EXPECT_DOUBLE_EQ(sw->lift, SwingPlannerParameters{}.stepLift);  // a step up: lift first
+  EXPECT_DOUBLE_EQ(sw->lift, defaults().stepLift);  // a step up: lift first
   // A swing on the flat floor is no step.
   planner.update(schedule, state(), VelocityCommand{0.1, 0, 0}, 1.0, Stage());
   const SwingTrajectory* flat = planner.swingAt(kLeftToe, 0.2);
@@ -286,7 +290,7 @@ TEST_F(SwingPlannerTest, ApexClearsTheTerrainAndFootholdsSitOnIt) {
 
 TEST_F(SwingPlannerTest, FeetNeverCrossEvenWhenCommandedSideways) {
   const ContactSchedule schedule(walk(0.8, 0.2), 0.0);
-  SwingPlannerParameters params;
+  SwingPlannerParameters params = defaults();
   params.minFeetDistance = 0.15;
   SwingPlanner planner(params, offsets);
   GaitState s = state();
@@ -299,7 +303,7 @@ TEST_F(SwingPlannerTest, FeetNeverCrossEvenWhenCommandedSideways) {
 
 TEST_F(SwingPlannerTest, ASwingInProgressKeepsItsLiftOffAndHoldsItsTargetLate) {
   const ContactSchedule schedule(walk(0.8, 0.2), 0.0);
-  SwingPlanner planner(SwingPlannerParameters{}, offsets);
+  SwingPlanner planner(defaults(), offsets);
   GaitState s = state();
   planner.update(schedule, s, VelocityCommand{0.5, 0, 0}, 1.0, FlatTerrain());
   const SwingTrajectory first = *planner.swingAt(kLeftToe, 0.1);

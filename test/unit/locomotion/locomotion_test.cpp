@@ -7,6 +7,7 @@
 #include "locomotion/locomotion_planner.hpp"
 #include "model/algorithms.hpp"
 #include "test/unit/plan_support.hpp"
+#include "test/unit/settings_support.hpp"
 #include "test/unit/test_support.hpp"
 
 namespace ballast::locomotion {
@@ -15,7 +16,7 @@ namespace {
 using model::CentroidalLayout;
 
 LocomotionSettings defaultSettings(const model::Model& m) {
-  LocomotionSettings s;
+  LocomotionSettings s = test::controlDefaults().locomotion;
   const Eigen::VectorXd q = test::standingConfiguration(m);
   s.nominalJoints = q.tail(m.nj());
   s.nominalHeight = q[2];

@@ -9,6 +9,7 @@
 #include "mpc/kinodynamic_problem.hpp"
 #include "mpc/sqp_solver.hpp"
 #include "test/unit/mpc/lq_test_problems.hpp"
+#include "test/unit/settings_support.hpp"
 #include "test/unit/test_support.hpp"
 
 namespace ballast::mpc {
@@ -74,7 +75,7 @@ TEST(Sqp, OneIterationSolvesALinearQuadraticProblem) {
   p.Q = Lq * Lq.transpose() + Eigen::MatrixXd::Identity(nx, nx);
   p.R = Lr * Lr.transpose() + Eigen::MatrixXd::Identity(nu, nu);
   p.QN = 3.0 * p.Q;
-  SqpSettings settings;
+  SqpSettings settings = test::controlDefaults().locomotion.sqp;
   settings.nodes = N;
   settings.dt = 0.05;
   SqpSolver sqp(p, settings);
@@ -124,7 +125,7 @@ class Kinodynamic : public ::testing::Test {
   model::VecX<double> qStand = test::standingConfiguration(m);
 
   ProblemSettings settings() const {
-    ProblemSettings s;
+    ProblemSettings s = test::controlDefaults().locomotion.problem;
     s.stateWeights = Eigen::VectorXd::Constant(L.nx(), 1.0);
     s.stateWeights.segment<6>(0).setConstant(10.0);
     s.stateWeights.segment<6>(L.kBasePosition).setConstant(500.0);
@@ -252,7 +253,7 @@ TEST_F(Kinodynamic, AlternatingJointVelocitiesDoNotSteerTheBase) {
 
 TEST_F(Kinodynamic, StandingConvergesToStaticEquilibrium) {
   KinodynamicProblem problem(m, frames, settings());
-  SqpSettings settings;
+  SqpSettings settings = test::controlDefaults().locomotion.sqp;
   settings.nodes = 25;
   settings.dt = 0.04;
   SqpSolver sqp(problem, settings);

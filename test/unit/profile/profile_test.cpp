@@ -2,6 +2,7 @@
 // replaces scalars and lists; the shipped profiles load; the man page is the schema's.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -113,9 +114,10 @@ safety:
   ASSERT_EQ(p.size(), 6u) << testing::PrintToString(p);
   EXPECT_EQ(p[0], path + ":3:9: control.rate: expected a number, got 'fast'");
   EXPECT_EQ(p[1], path + ":4:22: control.stand_up_duration: 100 is out of range [0.1, 30] s");
-  EXPECT_EQ(p[2], path + ":6:12: wbc.variant: 'tiered' is not one of hierarchical,weighted");
-  EXPECT_EQ(p[3], path + ":8:23: planner.q_base_orientation: expected a list of 3 numbers, got 2");
-  EXPECT_EQ(p[4], path + ":11:3: gait.period: duplicate key");
+  EXPECT_EQ(p[2], path + ":6:12: wbc.variant: expected one of hierarchical|weighted, got 'tiered'");
+  EXPECT_EQ(p[3],
+            path + ":8:23: planner.q_base_orientation: expected a list of 3 numbers, got a list of 2");
+  EXPECT_EQ(p[4], path + ":11:3: gait.period: given twice (first at " + path + ":10:3)");
   EXPECT_EQ(p[5],
             path + ":13:29: safety.fall_on_non_foot_contact: expected true or false, got 'maybe'");
 }
@@ -313,14 +315,14 @@ TEST(ManPage, IsGeneratedFromTheSchema) {
 }  // namespace
 }  // namespace ballast::profile
 
-#include "profile/wbc_settings.hpp"
-
 namespace ballast::profile {
 namespace {
 
+namespace fs = std::filesystem;
+
 TEST(WbcSettings, FromTheShippedProfileAndTheirProblemsLocated) {
   const Profile p = Profile::load(std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat.yaml");
-  const wbc::WbcSettings s = wbcSettings(p, loadModel(p));
+  const wbc::WbcSettings s = settingsFor(p, loadModel(p)).control.wbc;
   EXPECT_EQ(s.variant, wbc::WbcVariant::kHierarchical);
   EXPECT_EQ(s.jointSpaceJoints.size(), 12u);  // the arms group
   EXPECT_EQ(s.jointSpaceJoints[0], "left_shoulder_pitch");
@@ -332,7 +334,7 @@ TEST(WbcSettings, FromTheShippedProfileAndTheirProblemsLocated) {
   std::ofstream(bad) << "extends: " << p.path() << "\nwbc:\n  base_frame: left_toe\n";
   const Profile q = Profile::load(bad);
   try {
-    wbcSettings(q, loadModel(q));
+    settingsFor(q, loadModel(q));
     ADD_FAILURE() << "a base frame off the base was accepted";
   } catch (const ProfileError& e) {
     EXPECT_EQ(std::string(e.what()).rfind(q.path() + ":3:15: wbc.base_frame: ", 0), 0u)
@@ -340,71 +342,72 @@ TEST(WbcSettings, FromTheShippedProfileAndTheirProblemsLocated) {
   }
 }
 
-}  // namespace
-}  // namespace ballast::profile
+// The libraries name the field at fault; the profile layer names the key, also for fields the
+// settings derive from a key (the estimator's copy of the contact frames, the control period).
+TEST(Settings, LibraryProblemsAreNamedByTheKeyOfTheirField) {
+  const Settings s = defaultSettings();
+  EXPECT_STREQ(keyOf(s, &s.control.wbc.frictionCoefficient), "wbc.friction_coefficient");
+  EXPECT_STREQ(keyOf(s, &s.control.wbc.baseKp[4]), "wbc.base_kp");
+  EXPECT_STREQ(keyOf(s, &s.control.estimator.contactFrames[2]), "robot.contact_frames");
+  EXPECT_STREQ(keyOf(s, &s.control.estimator.period), "control.rate");
+  EXPECT_STREQ(keyOf(s, &s.control.locomotion.walkGait.period), "gait.period");
+  EXPECT_STREQ(keyOf(s, &s.server.max_clients), "server.max_clients");
+  EXPECT_EQ(keyOf(s, &s.control.num_joints), nullptr);  // the model's, no key's
+  // The loop names its limits in messages through the settings it holds (a copy will do).
+  const control::ControlSettings c = s.control;
+  EXPECT_STREQ(control::settingName(c, &c.max_plan_age, "limit"), "safety.max_plan_age");
+  control::ControlSettings bare = c;
+  bare.key_of = nullptr;
+  EXPECT_STREQ(control::settingName(bare, &bare.max_plan_age, "limit"), "limit");
+}
 
-
-#include "profile/locomotion_settings.hpp"
-
-namespace ballast::profile {
-namespace {
-
-// The planner's tuned values are the library's defaults (what its own tests and benchmarks
-// use); the schema declares them again for the profile. A profile that sets nothing must get
-// exactly the planner the library tests, so a retuning that changes one side fails here.
-TEST(LocomotionSettings, SchemaDefaultsAreTheLibraryDefaults) {
-  const std::string dir = ::testing::TempDir();
-  const std::string path = dir + "/locomotion-defaults.yaml";
-  std::ofstream(path) << "extends: " << BALLAST_SOURCE_DIR << "/profiles/sim-flat.yaml\n";
-  const Profile p = Profile::load(path);
-  for (const char* section : {"planner.", "gait."}) {
-    for (const Key& k : schema()) {
-      if (std::string(k.name).rfind(section, 0) == 0) {
-        EXPECT_EQ(p.origin(k.name).str(), "default") << k.name << " is set by sim-flat.yaml";
-      }
-    }
+// Every default is read by the same code as a profile, obeys its key's bounds and the rules,
+// and is what a profile that sets nothing gets.
+TEST(Settings, EveryDefaultParsesAndValidates) {
+  for (const schema::Row<Settings>& row : schema()) {
+    schema::Value v;
+    schema::Problem problem;
+    EXPECT_TRUE(schema::read(row, YAML::Load(*row.defaultYaml ? row.defaultYaml : "\"\""), v, problem))
+        << row.name << ": " << problem.what;
   }
-  const model::Model model = loadModel(p);
-  const control::ControlSettings control = buildSettings(p, model);
-  const locomotion::LocomotionSettings s =
-      locomotionSettings(p, model, control, wbcSettings(p, model), 0.85);
-  const locomotion::LocomotionSettings d;
-  EXPECT_EQ(s.maxPositionLead, d.maxPositionLead);
-  EXPECT_EQ(s.footholdLead, d.footholdLead);
-  EXPECT_EQ(s.maxAcceleration, d.maxAcceleration);
-  EXPECT_EQ(s.maxYawAcceleration, d.maxYawAcceleration);
-  EXPECT_EQ(s.stopDelay, d.stopDelay);
-  EXPECT_EQ(s.walkStartDelay, d.walkStartDelay);
-  EXPECT_EQ(s.walkGait.period, d.walkGait.period);
-  EXPECT_EQ(s.walkGait.doubleSupport, d.walkGait.doubleSupport);
-  EXPECT_EQ(s.walkGait.toeOffLead, d.walkGait.toeOffLead);
-  EXPECT_EQ(s.swing.apexClearance, d.swing.apexClearance);
-  EXPECT_EQ(s.swing.replanUntil, d.swing.replanUntil);
-  EXPECT_EQ(s.swing.minFeetDistance, d.swing.minFeetDistance);
-  EXPECT_EQ(s.swing.foothold.feedbackGain, d.swing.foothold.feedbackGain);
-  const locomotion::CostWeights &w = s.weights, &dw = d.weights;
-  EXPECT_EQ(w.linearVelocity, dw.linearVelocity);
-  EXPECT_EQ(w.angularMomentum, dw.angularMomentum);
-  EXPECT_EQ(w.basePosition, dw.basePosition);
-  EXPECT_EQ(w.baseOrientation, dw.baseOrientation);
-  EXPECT_EQ(w.legJoint, dw.legJoint);
-  EXPECT_EQ(w.armJoint, dw.armJoint);
-  EXPECT_EQ(w.force, dw.force);
-  EXPECT_EQ(w.legJointVelocity, dw.legJointVelocity);
-  EXPECT_EQ(w.armJointVelocity, dw.armJointVelocity);
-  const mpc::ProblemSettings &q = s.problem, &dq = d.problem;
-  EXPECT_EQ(q.terminalWeightScale, dq.terminalWeightScale);
-  EXPECT_EQ(q.frictionCoefficient, dq.frictionCoefficient);
-  EXPECT_EQ(q.minNormalForce, dq.minNormalForce);
-  EXPECT_EQ(q.maxNormalForce, dq.maxNormalForce);
-  EXPECT_EQ(q.jointLimitMargin, dq.jointLimitMargin);
-  EXPECT_EQ(q.swingPositionGain, dq.swingPositionGain);
-  EXPECT_EQ(q.frictionBarrier.weight, dq.frictionBarrier.weight);
-  EXPECT_EQ(q.frictionBarrier.delta, dq.frictionBarrier.delta);
-  EXPECT_EQ(q.limitBarrier.weight, dq.limitBarrier.weight);
-  EXPECT_EQ(q.limitBarrier.delta, dq.limitBarrier.delta);
-  EXPECT_EQ(s.sqp.dt, d.sqp.dt);
-  EXPECT_EQ(s.sqp.nodes, d.sqp.nodes);
+  const Settings d = defaultSettings();
+  EXPECT_TRUE(table().broken(d).empty());
+  EXPECT_DOUBLE_EQ(d.control.min_pose_height, 0.7);
+  EXPECT_DOUBLE_EQ(d.control.max_pose_height, 0.95);
+
+  const std::string path =
+      ::testing::TempDir() + "/ballast-nothing-set-" + std::to_string(::getpid()) + ".yaml";
+  std::ofstream(path) << "robot:\n  urdf: " << test::humanoidUrdf() << "\n";
+  const Settings p = readSettings(Profile::load(path));
+  for (const schema::Row<Settings>& row : schema()) {
+    if (row.type != schema::Type::kBool && row.type != schema::Type::kInteger &&
+        row.type != schema::Type::kNumber && row.type != schema::Type::kNumbers)
+      continue;
+    if (row.type == schema::Type::kNumbers && row.size % sizeof(double) != 0) continue;
+    EXPECT_EQ(std::memcmp(row.field(p), row.field(d), row.size), 0) << row.name;
+  }
+  EXPECT_EQ(p.control.contact_frames, d.control.contact_frames);
+  EXPECT_EQ(p.control.wbc.baseFrame, d.control.wbc.baseFrame);
+  EXPECT_EQ(p.joints.joint_space, d.joints.joint_space);
+  std::remove(path.c_str());
+}
+
+// `ballastd --dump-schema=yaml` is a profile: every key, at its default.
+TEST(Settings, TheYamlDumpLoadsAsAProfile) {
+  const std::string dir = ::testing::TempDir() + "/ballast-dump-" + std::to_string(::getpid());
+  fs::create_directories(dir);
+  const std::string dump = fs::path(dir + "/dump.yaml").lexically_normal().string();
+  const std::string profile = dir + "/from-dump.yaml";
+  std::ofstream(dump) << schemaYaml();
+  std::ofstream(profile) << "extends: dump.yaml\nrobot:\n  urdf: " << test::humanoidUrdf() << "\n";
+  const Profile p = Profile::load(profile);
+  for (const schema::Row<Settings>& row : schema()) {
+    if (std::string(row.name) == "robot.urdf" || std::string(row.name) == "extends" || row.isMap())
+      continue;
+    EXPECT_EQ(p.origin(row.name).file, dump) << row.name << " is not in the dump";
+  }
+  EXPECT_NO_THROW(readSettings(p));
+  fs::remove_all(dir);
 }
 
 }  // namespace

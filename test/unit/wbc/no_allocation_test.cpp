@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "test/unit/allocation_counter.hpp"
+#include "test/unit/settings_support.hpp"
 #include "test/unit/wbc/qp_test_support.hpp"
 #include "test/unit/wbc/wbc_test_support.hpp"
 
@@ -31,7 +32,7 @@ TEST(WbcNoAllocation, QpSolver) {
 TEST(WbcNoAllocation, ControllerTicks) {
   const model::Model& m = humanoid();
   for (WbcVariant variant : {WbcVariant::kHierarchical, WbcVariant::kWeighted}) {
-    WbcSettings settings;
+    WbcSettings settings = wbcSettings();
     settings.variant = variant;
     WholeBodyController wbc(m, settings);
     settings.torqueLimit.assign(m.nj(), 5.0);  // slack and clamping paths
@@ -61,6 +62,38 @@ TEST(WbcNoAllocation, ControllerTicks) {
     }
     EXPECT_GT(qpSolves, 0);
   }
+}
+
+// A profile switch reconfigures the loop's controller in place: other gains, variant, base frame,
+// joint-space joints and torque limits, without allocating; then it ticks without allocating.
+TEST(WbcNoAllocation, SettingsSwitch) {
+  const model::Model& m = humanoid();
+  const WbcSettings first = wbcSettings();
+  WholeBodyController wbc(m, first);
+  WbcSettings next = first;
+  next.variant = WbcVariant::kWeighted;
+  next.swingKp = 300;
+  next.baseKd = {30, 30, 30, 30, 30, 30};
+  next.jointSpaceJoints.clear();  // arms and legs both in joint space
+  for (int j = 0; j < m.nj(); ++j) next.jointSpaceJoints.push_back(m.jointName[j + 1]);
+  next.torqueLimit.assign(m.nj(), 50.0);
+  ASSERT_FALSE(validateSettings(next, m));
+  bool taken = false;
+  EXPECT_EQ(allocationsIn([&] { taken = wbc.setSettings(next); }), 0);
+  EXPECT_TRUE(taken);
+  EXPECT_EQ(wbc.settings().variant, WbcVariant::kWeighted);
+  EXPECT_DOUBLE_EQ(wbc.torqueLimit()[3], 50.0);
+  WbcReference ref = wbc.makeReference();
+  WbcOutput out = wbc.makeOutput();
+  const WbcState state = wbc.makeState();
+  wbc.update(state, ref, out);
+  EXPECT_EQ(allocationsIn([&] { wbc.update(state, ref, out); }), 0);
+  EXPECT_EQ(allocationsIn([&] { taken = wbc.setSettings(first); }), 0);
+  EXPECT_TRUE(taken);
+  WbcSettings moved = first;
+  moved.contactFrames[0] = "left_heel";
+  moved.contactFrames[1] = "left_toe";
+  EXPECT_FALSE(wbc.setSettings(moved));  // contact frames are the controller's for good
 }
 
 }  // namespace

@@ -123,11 +123,10 @@ inline bool insidePyramid(const Eigen::VectorXd& F, const std::vector<bool>& sta
 /// state's (no feedback), accelerations and forces from ξ*.
 inline void consistentReferences(const model::Model& m, const wbc::WholeBodyController& wbc,
                                  const ConsistentMotion& c, wbc::WbcReference& ref) {
-  const auto& s = wbc.settings();
   model::Data<double> d(m);
   model::forwardKinematicsBias(m, d, c.q, c.v);
   for (int i = 0; i < wbc.contactCount(); ++i) {
-    const int f = m.frameId(s.contactFrames[i]);
+    const int f = wbc.contactFrames()[i];
     Eigen::MatrixXd J(3, m.nv);
     model::frameJacobian(m, d, f, J);
     ref.contactPosition.col(i) = model::framePlacement(m, d, f).p;
@@ -137,7 +136,7 @@ inline void consistentReferences(const model::Model& m, const wbc::WholeBodyCont
   ref.jointPosition = c.q.tail(m.nj());
   ref.jointVelocity = c.v.tail(m.nj());
   ref.jointAcceleration = c.vdot.tail(m.nj());
-  const int b = m.frameId(s.baseFrame);
+  const int b = wbc.baseFrame();
   Eigen::MatrixXd Jb(6, m.nv);
   model::frameJacobian(m, d, b, Jb);
   const auto placement = model::framePlacement(m, d, b);

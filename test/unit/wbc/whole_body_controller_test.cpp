@@ -2,6 +2,7 @@
 // priority when limbs and base conflict, limits, friction, swing forces, torques against RNEA.
 #include <gtest/gtest.h>
 
+#include "test/unit/settings_support.hpp"
 #include "test/unit/test_support.hpp"
 #include "test/unit/wbc/wbc_test_support.hpp"
 
@@ -52,22 +53,25 @@ void expectPhysicallyConsistent(const model::Model& m, const WholeBodyController
 
 TEST(WbcSettings, ValidationNamesTheField) {
   const model::Model& m = humanoid();
-  WbcSettings s;
-  EXPECT_EQ(validateSettings(s, m), "");
+  WbcSettings s = wbcSettings();
+  EXPECT_FALSE(validateSettings(s, m));
   s.frictionCoefficient = -0.5;
-  EXPECT_NE(validateSettings(s, m).find("wbc.friction_coefficient"), std::string::npos);
-  s = WbcSettings{};
+  EXPECT_EQ(validateSettings(s, m).field, &s.frictionCoefficient);
+  s = wbcSettings();
   s.contactFrames = {"left_toe", "left_knuckle"};
-  EXPECT_NE(validateSettings(s, m).find("left_knuckle"), std::string::npos);
-  s = WbcSettings{};
+  EXPECT_EQ(validateSettings(s, m).field, &s.contactFrames);
+  EXPECT_NE(validateSettings(s, m).message.find("left_knuckle"), std::string::npos);
+  s = wbcSettings();
   s.torqueLimit = {1.0, 2.0};
-  EXPECT_NE(validateSettings(s, m).find("wbc.torque_limit: needs 24"), std::string::npos);
-  s = WbcSettings{};
+  EXPECT_EQ(validateSettings(s, m).field, &s.torqueLimit);
+  EXPECT_NE(validateSettings(s, m).message.find("needs 24"), std::string::npos);
+  s = wbcSettings();
   s.baseKp[4] = std::nan("");
-  EXPECT_NE(validateSettings(s, m).find("wbc.base_kp[4]"), std::string::npos);
-  s = WbcSettings{};
+  EXPECT_EQ(validateSettings(s, m).field, &s.baseKp[4]);
+  s = wbcSettings();
   s.jointSpaceJoints.push_back("left_elbow");
-  EXPECT_NE(validateSettings(s, m).find("listed twice"), std::string::npos);
+  EXPECT_EQ(validateSettings(s, m).field, &s.jointSpaceJoints);
+  EXPECT_NE(validateSettings(s, m).message.find("listed twice"), std::string::npos);
   EXPECT_THROW(WholeBodyController(m, s), std::invalid_argument);
 }
 
@@ -75,7 +79,7 @@ class WbcVariants : public ::testing::TestWithParam<WbcVariant> {};
 
 TEST_P(WbcVariants, ConsistentReferencesAreMetAtEveryLevel) {
   const model::Model& m = humanoid();
-  WbcSettings settings;
+  WbcSettings settings = wbcSettings();
   settings.variant = GetParam();
   WholeBodyController wbc(m, settings);
   WbcReference ref = wbc.makeReference();
@@ -106,7 +110,7 @@ TEST_P(WbcVariants, ConsistentReferencesAreMetAtEveryLevel) {
 
 TEST_P(WbcVariants, StandingStillHoldsTheRobotWithTorquesWithinLimits) {
   const model::Model& m = humanoid();
-  WbcSettings settings;
+  WbcSettings settings = wbcSettings();
   settings.variant = GetParam();
   WholeBodyController wbc(m, settings);
   WbcReference ref = wbc.makeReference();
@@ -167,7 +171,7 @@ TEST(Wbc, LimbsOverBaseWhenTheyConflict) {
   // allows. Large limits keep the inequalities inactive so that equality algebra, by an
   // independent SVD, gives the best achievable base residual.
   const model::Model& m = humanoid();
-  WbcSettings settings;
+  WbcSettings settings = wbcSettings();
   settings.torqueLimit.assign(m.nj(), 5000.0);
   WholeBodyController wbc(m, settings);
   WbcReference ref = wbc.makeReference();
@@ -195,7 +199,7 @@ TEST(Wbc, LimbsOverBaseWhenTheyConflict) {
 TEST(Wbc, WeightedVariantTradesLimbErrorForBase) {
   // The same conflict under cNH: limb tracking is no longer exact (the paper's point).
   const model::Model& m = humanoid();
-  WbcSettings settings;
+  WbcSettings settings = wbcSettings();
   settings.torqueLimit.assign(m.nj(), 5000.0);
   settings.variant = WbcVariant::kWeighted;
   WholeBodyController weighted(m, settings);
@@ -252,7 +256,7 @@ TEST(Wbc, TorqueLimitsRedistributeTheLoad) {
   // Standing, with a left knee limit below what an even stance needs: the controller must shift
   // the load (and move) so the left knee stays within its limit, the physics still exact.
   const model::Model& m = humanoid();
-  WbcSettings settings;
+  WbcSettings settings = wbcSettings();
   WholeBodyController free(m, settings);
   WbcState state = free.makeState();
   state.q = standingConfiguration(m, -0.45, 0.9, -0.45);
@@ -293,7 +297,7 @@ TEST(Wbc, FrictionPyramidLimitsTheBase) {
   // slippery floor: forces stay inside the pyramid, the base does the best the pyramid permits,
   // and with more friction it follows exactly.
   const model::Model& m = humanoid();
-  WbcSettings settings;
+  WbcSettings settings = wbcSettings();
   settings.frictionCoefficient = 0.05;
   WholeBodyController wbc(m, settings);
   WbcState state = wbc.makeState();
@@ -320,7 +324,7 @@ TEST(Wbc, FrictionPyramidLimitsTheBase) {
 
 TEST(Wbc, BadInputGivesZeroTorquesAndAFlag) {
   const model::Model& m = humanoid();
-  WholeBodyController wbc(m, WbcSettings{});
+  WholeBodyController wbc(m, wbcSettings());
   WbcState state = wbc.makeState();
   state.q = standingConfiguration(m);
   WbcReference ref = wbc.makeReference();
