@@ -1,10 +1,11 @@
 // ballastd: the whole-body control daemon. Read top to bottom:
 //
 //   1. options; --dump-schema answers without a profile
-//   2. the profile (validated), the robot model, the control settings
-//   3. the backend plugin: load, configure with its own profile section, start
-//   4. the control loop (its own thread), the telemetry writer (its own thread)
-//   5. the socket server on this thread until SIGTERM/SIGINT; SIGHUP reloads the profile
+//   2-4. the daemon put together (main/daemon.hpp): the profile (validated), the robot model, the
+//      settings, the backend plugin (loaded, configured with its own profile section, started),
+//      the planner, the control loop, the telemetry writer, the socket server
+//   5. the loop on its own thread, the server on this one until SIGTERM/SIGINT; SIGHUP reloads
+//      the profile
 //   6. shutdown: the loop damps and stops the backend, telemetry is flushed, the socket removed
 //
 // Any problem before the loop starts is printed (file:line:column: key: what is wrong for a
@@ -34,14 +35,8 @@
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
-#include "backend/plugin_loader.hpp"
-#include "control/control_loop.hpp"
-#include "control/mpc_planner.hpp"
-#include "control/telemetry.hpp"
-#include "profile/profile.hpp"
+#include "main/daemon.hpp"
 #include "profile/schema.hpp"
-#include "profile/settings.hpp"
-#include "server/server.hpp"
 
 using namespace ballast;
 
@@ -163,145 +158,48 @@ int main(int argc, char** argv) {
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
   signal(SIGPIPE, SIG_IGN);
 
-  // ---- 2. profile, model, settings
-  server::DaemonContext ctx;
-  ctx.profile_dirs = profile::defaultProfileDirs();
-  std::unique_ptr<model::Model> model;
-  profile::Settings settings;
-  try {
-    if (profilePath.empty()) profilePath = profile::resolveProfile("sim-flat", ctx.profile_dirs);
-    ctx.profile =
-        std::make_unique<profile::Profile>(profile::Profile::load(profilePath, ctx.profile_dirs));
-    model = std::make_unique<model::Model>(profile::loadModel(*ctx.profile));
-    settings = profile::settingsFor(*ctx.profile, *model);
-    ctx.settings = std::make_shared<const control::ControlSettings>(settings.control);
-    ctx.keeper.keep(ctx.settings, 0);
-  } catch (const profile::ProfileError& e) {
-    return startupError("profile " + profilePath + " refused:\n" + e.what());
-  }
-  const profile::Profile& prof = *ctx.profile;
-  auto problem = [&](const void* field, const std::string& what) {
-    return prof.problem(profile::keyOf(settings, field), what);
-  };
-  // The terrain map and the planner's height grid from it (a flat floor at the ground height
-  // without one).
-  const double ground = settings.control.ground_height;
-  ctx.map = server::TerrainMap(ground);
-  if (const std::string& map = settings.terrain_map; !map.empty()) {
-    std::string error;
-    if (!ctx.map.load(map, ground, error)) return startupError(problem(&settings.terrain_map, error));
-  }
-  if (check) {
-    std::printf("profile %s is valid (%zu file%s; robot %s, %d joints)\n", prof.path().c_str(),
-                prof.files().size(), prof.files().size() == 1 ? "" : "s", model->name.c_str(),
-                model->nj());
-    return 0;
-  }
-
-  // ---- 3. backend
-  std::shared_ptr<backend::Plugin> plugin;
-  backend::BackendPtr backend;
-  try {
-    plugin = backend::Plugin::load(settings.backend.name, settings.backend.plugin_dirs);
-    backend = plugin->create();
-  } catch (const backend::PluginError& e) {
-    return startupError(problem(&settings.backend.name, e.what()));
-  }
-  if (!backend) return startupError("backend " + plugin->path() + ": create() returned nothing");
-  const profile::Profile::BackendSection section = prof.backendSection();
-  const std::string urdf = settings.urdf, terrain = settings.terrain_map;
-  std::vector<const char*> contactNames;
-  for (const auto& f : ctx.settings->contact_frames) contactNames.push_back(f.c_str());
-  backend::Config config;
-  config.section_yaml = section.yaml.c_str();
-  config.section_origin = section.origin.c_str();
-  config.urdf_path = urdf.c_str();
-  config.terrain_map = terrain.c_str();
-  config.contact_frames = contactNames.data();
-  config.num_contacts = static_cast<int>(contactNames.size());
-  std::vector<backend::JointModel> jointModels(static_cast<std::size_t>(model->nj()));
-  for (int j = 0; j < model->nj(); ++j) {
-    jointModels[j].name = model->jointName[j + 1].c_str();
-    jointModels[j].armature = model->armature[j];
-  }
-  config.joints = jointModels.data();
-  config.num_joint_models = model->nj();
-  config.period = 1.0 / ctx.settings->rate;
-  config.lockstep = lockstep;
-  config.seed = settings.backend.seed;
-  backend::Error error;
-  if (!backend->configure(config, error))
-    return startupError("backend " + settings.backend.name + " refused its configuration:\n" +
-                        prof.locateBackendProblem(error.message));
-  const backend::Capabilities& caps = backend->capabilities();
-  if (lockstep && !caps.lockstep)
-    return startupError("--lockstep: backend " + std::string(caps.name) +
-                        " cannot run in lockstep (it is not a simulation): drop --lockstep");
-  if (!backend->start(error))
-    return startupError("backend " + std::string(caps.name) + " failed to start: " + error.message);
-  ctx.backend_name = caps.name;
-  ctx.simulation = caps.simulation;
-
-  // ---- 4. planner, control loop, telemetry
-  // The planner reads the terrain map's height grid; `map load` and profile switches hand it
-  // new ones (server.cpp).
-  std::unique_ptr<control::MpcPlanner> planner;
-  try {
-    planner = std::make_unique<control::MpcPlanner>(*model, *ctx.settings, ctx.map.heights());
-  } catch (const std::exception& e) {
-    backend->stop();
-    return startupError(std::string("planner: ") + e.what());
-  }
-  control::LoopOptions options;
+  // ---- 2-4. profile, model, settings, terrain map; backend; planner, loop, telemetry, server
+  daemon::DaemonOptions options;
+  options.profile = profilePath;
   options.lockstep = lockstep;
+  options.check_only = check;
+  options.socket = socketPath;
   options.planner_priority = 60;  // below the loop's 80 (tryRealtime)
-  options.telemetry_capacity = settings.telemetry_ring_frames;
-  std::unique_ptr<control::ControlLoop> loop;
+  std::unique_ptr<daemon::Daemon> d;
   try {
-    loop = std::make_unique<control::ControlLoop>(*model, *backend, ctx.settings, options);
-  } catch (const std::exception& e) {
-    backend->stop();
+    d = std::make_unique<daemon::Daemon>(options);
+    if (check) {
+      const profile::Profile& prof = d->profile();
+      std::printf("profile %s is valid (%zu file%s; robot %s, %d joints)\n", prof.path().c_str(),
+                  prof.files().size(), prof.files().size() == 1 ? "" : "s",
+                  d->model().name.c_str(), d->model().nj());
+      return 0;
+    }
+    d->startTelemetry();
+    d->server()->open();
+  } catch (const daemon::StartupError& e) {
+    return startupError(e.what());
+  } catch (const std::exception& e) {  // the server's socket
     return startupError(e.what());
   }
-  control::TelemetryWriter writer(loop->telemetryRing(), loop->jointNames());
-  loop->setTelemetryWriter(&writer);
-  writer.start();
-  if (const std::string& file = settings.record_on_start; !file.empty()) {
-    std::string why;
-    if (!writer.startRecording(file, why)) {
-      backend->stop();
-      return startupError(problem(&settings.record_on_start, why));
-    }
-  }
-  loop->attachPlanner(planner.get());
-  ctx.planner = planner.get();
-  ctx.model = model.get();
-  ctx.loop = loop.get();
-  ctx.writer = &writer;
 
   // ---- 5. server (this thread), loop thread
-  server::Server server(ctx, server::serverConfig(settings, socketPath));
-  try {
-    server.open();
-  } catch (const std::exception& e) {
-    backend->stop();
-    return startupError(e.what());
-  }
+  const backend::Capabilities& caps = d->backend().capabilities();
   spdlog::info("ballastd {}: profile {}, backend {} ({}{}, {}), robot {} ({} joints), {} Hz",
-               BALLAST_VERSION, prof.name(), caps.name, caps.simulation ? "simulation" : "hardware",
-               lockstep ? ", lockstep" : "", plugin->path(), model->name, model->nj(),
-               ctx.settings->rate);
+               BALLAST_VERSION, d->profile().name(), caps.name,
+               caps.simulation ? "simulation" : "hardware", lockstep ? ", lockstep" : "",
+               d->pluginPath(), d->model().name, d->model().nj(), d->settings().control.rate);
   if (!lockstep) {
     lockMemory();
     reportKernelPreemption();
   }
   std::atomic<bool> stop{false};
-  std::thread control([&] { loop->run(stop); });
+  std::thread control([&] { d->run(stop); });
   if (!lockstep) tryRealtime(control);
 
   int status = 0;
   try {
-    server.run();
+    d->server()->run();
   } catch (const std::exception& e) {
     spdlog::error("server: {}", e.what());
     status = 1;
@@ -310,12 +208,12 @@ int main(int argc, char** argv) {
   // ---- 6. shutdown: damp and stop the backend, flush telemetry, remove the socket
   stop = true;
   control.join();
-  writer.stop();
-  server.close();
-  const control::LoopStatus last = loop->status();
+  d->writer().stop();
+  d->server()->close();
+  const control::LoopStatus last = d->loop().status();
   spdlog::info("stopped at t={:.3f} s in {} ({} ticks, {} late, {} periods skipped)", last.t,
                control::modeName(last.mode), last.ticks, last.timing.late_ticks,
                last.timing.skipped_periods);
-  loop.reset();
+  d.reset();
   return status;
 }

@@ -1,17 +1,13 @@
-// ballastd's control core in process: a profile's settings and model, its backend plugin, the
-// MPC planner and the control loop, put together as daemon/main/ballastd.cpp does, without the
-// socket server. Lockstep, so every run is deterministic and a command or a push lands at an
-// exact controller time — what a test needs to reach, say, every phase of the gait.
+// ballastd's control core in process: the daemon put together by the function ballastd uses
+// (daemon/main/daemon.hpp), without the socket server, the loop ticked here. Lockstep, so every
+// run is deterministic and a command or a push lands at an exact controller time — what a test
+// needs to reach, say, every phase of the gait.
 #pragma once
 
 #include <memory>
 #include <string>
 
-#include "backend/plugin_loader.hpp"
-#include "control/control_loop.hpp"
-#include "control/mpc_planner.hpp"
-#include "model/model.hpp"
-#include "profile/profile.hpp"
+#include "main/daemon.hpp"
 
 namespace ballast::test {
 
@@ -34,17 +30,12 @@ class DaemonStack {
 
   control::LoopStatus status() const { return loop_->status(); }
   double t() const { return loop_->status().t; }
-  const model::Model& model() const { return *model_; }
-  const control::ControlSettings& settings() const { return *settings_; }
+  const model::Model& model() const { return daemon_->model(); }
+  const control::ControlSettings& settings() const { return daemon_->settings().control; }
 
  private:
-  std::unique_ptr<profile::Profile> profile_;
-  std::unique_ptr<model::Model> model_;
-  std::shared_ptr<const control::ControlSettings> settings_;
-  std::shared_ptr<backend::Plugin> plugin_;
-  backend::BackendPtr backend_;
-  std::unique_ptr<control::MpcPlanner> planner_;
-  std::unique_ptr<control::ControlLoop> loop_;
+  std::unique_ptr<daemon::Daemon> daemon_;
+  control::ControlLoop* loop_ = nullptr;
   std::uint64_t sequence_ = 0;
 };
 
