@@ -19,6 +19,7 @@
 #include "cli/plot.hpp"
 #include "cli/status_view.hpp"
 #include "cli/units.hpp"
+#include "cli/verbs.hpp"
 #include "server/protocol.hpp"
 
 using nlohmann::json;
@@ -223,7 +224,8 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.set_version_flag("--version", BALLAST_VERSION);
 
-  auto* status = app.add_subcommand("status", "the robot's state; --watch for a live view");
+  auto* status = app.add_subcommand(
+      "status", cli::help("status") + std::string("; --watch: ") + cli::help("watch"));
   bool watchFlag = false, joints = false;
   double rate = 10.0;
   int count = 0;
@@ -236,58 +238,59 @@ int main(int argc, char** argv) {
                      "print one field, e.g. mode, base.position, timing.tick_overruns");
   status->add_flag("--joints", joints, "include joint positions and torques");
 
-  app.add_subcommand("stand", "stand up (from passive), or stop walking and stand");
-  auto* walk = app.add_subcommand("walk", "walk at a velocity (needs the planner)");
+  app.add_subcommand("stand", cli::help("stand"));
+  auto* walk = app.add_subcommand("walk", cli::help("walk"));
   std::string vx = "0", vy = "0", yawRate = "0", forDuration;
-  walk->add_option("--vx", vx, "forward velocity, m/s");
-  walk->add_option("--vy", vy, "sideways velocity (left), m/s");
-  walk->add_option("--yaw-rate", yawRate, "turning rate, rad/s (or deg with a deg suffix)");
-  walk->add_option(
-      "--for", forDuration,
-      "how long, controller time (3, 2.5s, 500ms); default: the profile's safety.command_ttl");
-  auto* pose = app.add_subcommand("pose", "standing base height and orientation (unset: nominal)");
+  walk->add_option("--vx", vx, protocol::fieldDoc("walk", "vx"));
+  walk->add_option("--vy", vy, protocol::fieldDoc("walk", "vy"));
+  walk->add_option("--yaw-rate", yawRate,
+                   protocol::fieldDoc("walk", "yaw_rate") + std::string(" (or deg with a deg suffix)"));
+  walk->add_option("--for", forDuration,
+                   protocol::fieldDoc("walk", "ttl") + std::string(" (3, 2.5s, 500ms)"));
+  auto* pose = app.add_subcommand("pose", cli::help("pose"));
   std::string height, roll, pitch, yaw;
-  pose->add_option("--height", height, "base height above the feet, m");
+  pose->add_option("--height", height, protocol::fieldDoc("pose", "height"));
   pose->add_option("--roll", roll, "rad, or deg with a deg suffix (5deg)");
   pose->add_option("--pitch", pitch, "rad, or deg with a deg suffix");
   pose->add_option("--yaw", yaw, "rad, or deg with a deg suffix");
-  app.add_subcommand("stop", "zero velocity, keep standing");
-  app.add_subcommand("estop", "damp every joint and latch until `ballast reset` (no lease needed)");
-  app.add_subcommand("reset", "clear faults and the estop latch (damp -> passive)");
-  app.add_subcommand("passive", "zero torque: the robot falls unless held");
+  app.add_subcommand("stop", cli::help("stop"));
+  app.add_subcommand("estop", cli::help("estop"));
+  app.add_subcommand("reset", cli::help("reset"));
+  app.add_subcommand("passive", cli::help("passive"));
 
   auto* profile = app.add_subcommand("profile", "list, show or switch profiles");
   profile->require_subcommand(1);
-  profile->add_subcommand("list", "profiles the daemon can switch to");
+  profile->add_subcommand("list", cli::help("profile_list"));
   std::string showName, useName;
-  profile->add_subcommand("show", "a profile, merged, with where each value comes from")
-      ->add_option("name", showName, "profile name or file (default: the running one)");
-  profile->add_subcommand("use", "switch to a profile (validated first; gains blend)")
-      ->add_option("name", useName, "profile name or file")
+  profile->add_subcommand("show", cli::help("profile_show"))
+      ->add_option("name", showName, protocol::fieldDoc("profile_show", "name"));
+  profile->add_subcommand("use", cli::help("profile_use"))
+      ->add_option("name", useName, protocol::fieldDoc("profile_use", "name"))
       ->required();
 
   auto* map = app.add_subcommand("map", "the terrain map");
   map->require_subcommand(1);
   std::string mapFile;
-  map->add_subcommand("load", "load an OctoMap file (.bt, .ot)")
+  map->add_subcommand("load", cli::help("map_load"))
       ->add_option("file", mapFile)
       ->required();
-  map->add_subcommand("info", "the map in use");
+  map->add_subcommand("info", cli::help("map_info"));
 
-  auto* push = app.add_subcommand("push", "push a body (simulation only)");
+  auto* push = app.add_subcommand("push", cli::help("push"));
   std::string force, duration, body;
   push->add_option("--force", force, "FX,FY,FZ in N, world frame, e.g. 40,0,0")->required();
-  push->add_option("--duration", duration, "how long, controller time (1, 0.5s, 200ms)")
+  push->add_option("--duration", duration,
+                   protocol::fieldDoc("push", "duration") + std::string(" (1, 0.5s, 200ms)"))
       ->required();
-  push->add_option("--body", body, "URDF link (default: the base)");
+  push->add_option("--body", body, protocol::fieldDoc("push", "body"));
 
   auto* record = app.add_subcommand("record", "record telemetry at the control rate");
   record->require_subcommand(1);
   std::string recordFile;
-  record->add_subcommand("start", "start recording to FILE")
+  record->add_subcommand("start", cli::help("record_start"))
       ->add_option("file", recordFile)
       ->required();
-  record->add_subcommand("stop", "stop recording");
+  record->add_subcommand("stop", cli::help("record_stop"));
 
   auto* plotCmd = app.add_subcommand("plot", "plot a recording like the paper's Fig. 3 (PNG)");
   std::string plotFile, plotOut, plotTitle;
@@ -297,9 +300,9 @@ int main(int argc, char** argv) {
 
   auto* lease = app.add_subcommand("lease", "the command lease (motion commands need it)");
   lease->require_subcommand(1);
-  lease->add_subcommand("acquire", "take the free lease (or renew yours)");
-  lease->add_subcommand("take", "take the lease from whoever holds it");
-  lease->add_subcommand("return", "give the lease back");
+  lease->add_subcommand("acquire", cli::help("lease_acquire"));
+  lease->add_subcommand("take", cli::help("lease_take"));
+  lease->add_subcommand("return", cli::help("lease_return"));
 
   try {
     app.parse(argc, argv);

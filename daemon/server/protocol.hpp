@@ -102,27 +102,27 @@ inline constexpr Field kPathField[] = {
 
 inline constexpr Command kCommands[] = {
     {"version", false, kNoFields, 0, "daemon and protocol version"},
-    {"status", false, kStatusFields, 1, "one status object"},
-    {"watch", false, kWatchFields, 2, "stream status at a rate"},
+    {"status", false, kStatusFields, 1, "the robot's state: one status object"},
+    {"watch", false, kWatchFields, 2, "stream status lines at a rate ({\"event\":\"status\",...})"},
     {"unwatch", false, kNoFields, 0, "stop the stream"},
-    {"stand", true, kNoFields, 0, "stand up (from passive) or stop walking"},
-    {"walk", true, kWalkFields, 4, "walk at a velocity for ttl controller seconds"},
-    {"pose", true, kPoseFields, 4, "standing base height and orientation"},
+    {"stand", true, kNoFields, 0, "stand up (from passive), or stop walking and stand"},
+    {"walk", true, kWalkFields, 4, "walk at a velocity for ttl controller seconds (needs the planner)"},
+    {"pose", true, kPoseFields, 4, "standing base height and orientation (unset: nominal)"},
     {"stop", true, kNoFields, 0, "zero velocity, keep standing"},
-    {"estop", false, kNoFields, 0, "damp all joints and latch until reset (anyone may)"},
-    {"reset", true, kNoFields, 0, "clear faults and the estop latch: damp -> passive"},
-    {"passive", true, kNoFields, 0, "zero torque (the robot falls unless held)"},
-    {"push", true, kPushFields, 3, "external force on a body (simulation)"},
+    {"estop", false, kNoFields, 0, "damp every joint and latch until reset (anyone may)"},
+    {"reset", true, kNoFields, 0, "clear faults and the estop latch (damp -> passive)"},
+    {"passive", true, kNoFields, 0, "zero torque: the robot falls unless held"},
+    {"push", true, kPushFields, 3, "push a body with an external force (simulation only)"},
     {"profile_list", false, kNoFields, 0, "profiles the daemon can switch to"},
     {"profile_show", false, kOptionalNameField, 1,
-     "a profile, merged, with the origin of each value"},
-    {"profile_use", true, kNameField, 1, "switch profile (validated first)"},
-    {"map_load", true, kPathField, 1, "load a terrain map (.bt/.ot)"},
+     "a profile, merged, with where each value comes from"},
+    {"profile_use", true, kNameField, 1, "switch to a profile (validated first; gains blend)"},
+    {"map_load", true, kPathField, 1, "load a terrain map (.bt, .ot)"},
     {"map_info", false, kNoFields, 0, "the terrain map in use"},
-    {"record_start", false, kPathField, 1, "record telemetry to a file"},
+    {"record_start", false, kPathField, 1, "record telemetry at the control rate to a file"},
     {"record_stop", false, kNoFields, 0, "stop recording"},
     {"lease_acquire", false, kNoFields, 0, "take the free command lease (or renew yours)"},
-    {"lease_take", false, kNoFields, 0, "take the command lease from its holder"},
+    {"lease_take", false, kNoFields, 0, "take the command lease from whoever holds it"},
     {"lease_return", false, kNoFields, 0, "give the command lease back"},
 };
 
@@ -130,6 +130,35 @@ inline const Command* findCommand(const std::string& name) {
   for (const Command& c : kCommands)
     if (name == c.name) return &c;
   return nullptr;
+}
+
+/// A command's one-line doc ("" for no such command): the CLI's help takes it from here.
+inline const char* commandDoc(const std::string& name) {
+  const Command* c = findCommand(name);
+  return c ? c->doc : "";
+}
+
+/// A field's doc ("" if none).
+inline const char* fieldDoc(const std::string& command, const std::string& field) {
+  if (const Command* c = findCommand(command))
+    for (std::size_t i = 0; i < c->num_fields; ++i)
+      if (field == c->fields[i].name) return c->fields[i].doc;
+  return "";
+}
+
+/// Every command on a line, "name field [optional]", a '*' when it needs the command lease, its
+/// doc: the list in ballastd(8) (a test holds the man page to it).
+inline std::string commandSynopsis() {
+  std::string out;
+  for (const Command& c : kCommands) {
+    std::string use = c.name;
+    for (std::size_t i = 0; i < c.num_fields; ++i)
+      use += c.fields[i].required ? std::string(" ") + c.fields[i].name
+                                  : std::string(" [") + c.fields[i].name + "]";
+    if (use.size() < 35) use.resize(35, ' ');
+    out += use + (c.needs_lease ? "* " : "  ") + c.doc + "\n";
+  }
+  return out;
 }
 
 inline const char* fieldTypeName(FieldType t) {

@@ -3,10 +3,14 @@
 // One thread (ballastd's main thread) runs Server::run(): a poll() loop over the listening
 // socket, the clients, a signalfd (SIGTERM/SIGINT: stop; SIGHUP: reload the profile) and the
 // control loop's eventfd (replies and log events waiting). Requests are validated against the
-// protocol table (protocol.hpp); commands for the robot go to the loop through its command ring
-// and are answered when the loop has handled them (or with `timeout` after
-// server.reply_timeout). Nothing here can hold the loop up: the loop only ever pushes into rings
-// and publishes its status through a seqlock.
+// protocol table (protocol.hpp: verb -> fields) and dispatched through the server's table of
+// handlers (verb -> handler, verbs.cpp; a test holds the two tables to each other). Commands for
+// the robot go to the loop through its command ring and are answered when the loop has handled
+// them (or with `timeout` after the profile's reply timeout). Nothing here can hold the loop up:
+// the loop only ever pushes into rings and publishes its status through a seqlock.
+//
+// By concern: transport.cpp (socket, clients, lines, signals), leases.cpp, verbs.cpp (the
+// handlers' table and the robot's commands), watch.cpp (status), profile_switch.cpp.
 //
 // Security: the socket file is created mode 0660 in a directory ballastd creates 0750 if
 // missing; each connecting peer's uid (SO_PEERCRED) must be ballastd's own or listed in
@@ -29,6 +33,7 @@
 #include "control/telemetry.hpp"
 #include "profile/profile.hpp"
 #include "profile/settings.hpp"
+#include "server/protocol.hpp"
 #include "server/server_config.hpp"
 #include "server/status_json.hpp"
 #include "server/terrain_map.hpp"
@@ -74,6 +79,9 @@ class Server {
 
   const ServerConfig& config() const { return config_; }
 
+  /// The verbs the server has a handler for (a test holds them to protocol::kCommands).
+  static std::vector<std::string> handledVerbs();
+
  private:
   struct Client {
     int fd = -1;
@@ -86,6 +94,19 @@ class Server {
     bool watch_joints = false;
     std::chrono::steady_clock::time_point next_watch;
   };
+  /// A request that passed the protocol table: its command, id and fields.
+  struct Request {
+    const protocol::Command& command;
+    nlohmann::json id;
+    const nlohmann::json& fields;
+
+    double number(const char* field, double fallback) const {
+      return fields.contains(field) ? fields[field].get<double>() : fallback;
+    }
+    bool flag(const char* field) const { return fields.value(field, false); }
+    std::string text(const char* field) const { return fields.value(field, std::string()); }
+  };
+  /// A command sent to the loop, waiting for its reply.
   struct Pending {
     int client = -1;
     nlohmann::json id;
@@ -105,32 +126,71 @@ class Server {
     std::string client;
     std::chrono::steady_clock::time_point since, last_used;
   };
+  /// A verb of protocol::kCommands and its handler (verbs.cpp).
+  struct Verb {
+    const char* name;
+    void (Server::*handle)(Client&, const Request&);
+  };
+  static const std::vector<Verb>& verbs();
 
+  // transport.cpp: the socket, its clients, their lines, signals
   void accept();
   void readFrom(Client& c);
   void handleLine(Client& c, const std::string& line);
-  void dispatch(Client& c, const nlohmann::json& id, const std::string& cmd,
-                const nlohmann::json& request);
-  bool checkLease(Client& c, const nlohmann::json& id, const nlohmann::json& request);
-  void submit(Client& c, const nlohmann::json& id, const std::string& cmd,
-              control::OperatorCommand command, std::unique_ptr<profile::Profile> next = nullptr,
-              std::unique_ptr<TerrainMap> map = nullptr);
-  void switchProfile(Client* c, const nlohmann::json& id, const std::string& name);
-  void onLoopReplies();
-  /// A profile switch the loop took (applied) or refused.
-  void finishSwitch(Pending& p, bool applied, const char* message);
   void onSignal();
-  void sendWatches();
-  void expirePending();
   void reply(int client, const nlohmann::json& id, nlohmann::json body);
   void fail(int client, const nlohmann::json& id, const char* code, const std::string& message);
   void send(Client& c, const std::string& text);
   void flush(Client& c);
   void drop(int fd);
-  nlohmann::json status(bool joints);
+
+  // leases.cpp
+  bool checkLease(Client& c, const nlohmann::json& id, const std::string& token);
   nlohmann::json leaseJson() const;
   bool leaseExpired() const;
-  nlohmann::json profileList();
+  void leaseAcquire(Client& c, const Request& r);
+  void leaseTake(Client& c, const Request& r);
+  void leaseReturn(Client& c, const Request& r);
+  void grantLease(Client& c, const Request& r, bool take);
+
+  // verbs.cpp: the robot's commands (through the loop's ring), the map, telemetry
+  void version(Client& c, const Request& r);
+  void stand(Client& c, const Request& r);
+  void walk(Client& c, const Request& r);
+  void pose(Client& c, const Request& r);
+  void stop(Client& c, const Request& r);
+  void estop(Client& c, const Request& r);
+  void reset(Client& c, const Request& r);
+  void passive(Client& c, const Request& r);
+  void push(Client& c, const Request& r);
+  void mapLoad(Client& c, const Request& r);
+  void mapInfo(Client& c, const Request& r);
+  void recordStart(Client& c, const Request& r);
+  void recordStop(Client& c, const Request& r);
+  /// Sends `command` to the loop; the reply goes to the client when the loop answers.
+  void submit(Client& c, const Request& r, control::OperatorCommand command);
+  /// Queues a command in the loop's ring and notes it pending (false: the ring is full).
+  Pending* enqueue(control::OperatorCommand& command);
+  void onLoopReplies();
+  void expirePending();
+
+  // watch.cpp: status now and as a stream
+  void statusVerb(Client& c, const Request& r);
+  void watch(Client& c, const Request& r);
+  void unwatch(Client& c, const Request& r);
+  nlohmann::json status(bool joints);
+  void sendWatches();
+
+  // profile_switch.cpp
+  void profileList(Client& c, const Request& r);
+  void profileShow(Client& c, const Request& r);
+  void profileUse(Client& c, const Request& r);
+  /// Validates a profile and hands its settings to the loop. c: the client that asked (nullptr
+  /// for SIGHUP's reload).
+  void switchProfile(Client* c, const nlohmann::json& id, const std::string& name);
+  /// A profile switch the loop took (applied) or refused.
+  void finishSwitch(Pending& p, bool applied, const char* message);
+  std::vector<std::string> profileDirs() const;
 
   DaemonContext& ctx_;
   ServerConfig config_;

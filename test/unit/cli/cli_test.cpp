@@ -4,11 +4,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "cli/client.hpp"
 #include "cli/plot.hpp"
 #include "cli/status_view.hpp"
 #include "cli/units.hpp"
+#include "cli/verbs.hpp"
 
 namespace ballast::cli {
 namespace {
@@ -116,6 +118,19 @@ TEST_F(Plot, RefusesWhatIsNotARecording) {
   TelemetryTable empty;
   EXPECT_FALSE(readTelemetry(path_, empty, error));
   EXPECT_NE(error.find("holds no frames"), std::string::npos);
+}
+
+// The CLI's verbs send protocol commands, and every command but the ones no verb needs has one;
+// their help is the table's.
+TEST(Verbs, EveryCommandHasAVerbAndItsHelpIsTheTables) {
+  std::set<std::string> sent;
+  for (const cli::Verb& v : cli::kVerbs) {
+    EXPECT_NE(protocol::findCommand(v.command), nullptr) << v.words << " sends " << v.command;
+    EXPECT_STRNE(cli::help(v.command), "") << v.command;
+    sent.insert(v.command);
+  }
+  for (const char* c : cli::kNotSent) sent.insert(c);
+  for (const auto& c : protocol::kCommands) EXPECT_TRUE(sent.count(c.name)) << c.name << " has no verb";
 }
 
 }  // namespace

@@ -2,7 +2,10 @@
 // from a profile, without a daemon.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 #include "profile/profile.hpp"
 #include "server/protocol.hpp"
@@ -49,6 +52,31 @@ TEST(StatusJson, CarriesTheDesignNames) {
   // NaN goes out as null (JSON has no NaN).
   EXPECT_TRUE(nlohmann::json::parse(j.dump())["truth"]["base"]["position"][0].is_null());
   EXPECT_TRUE(j["joints"].contains("q"));
+}
+
+// The server dispatches through one table bound to the protocol's: a verb without a handler, or a
+// handler for no verb, fails here.
+TEST(Protocol, EveryVerbHasOneHandlerAndEveryHandlerAVerb) {
+  std::vector<std::string> verbs;
+  for (const auto& c : protocol::kCommands) verbs.push_back(c.name);
+  std::vector<std::string> handled = Server::handledVerbs();
+  std::sort(verbs.begin(), verbs.end());
+  std::sort(handled.begin(), handled.end());
+  EXPECT_EQ(std::adjacent_find(handled.begin(), handled.end()), handled.end()) << "a verb twice";
+  EXPECT_EQ(handled, verbs);
+}
+
+// ballastd(8) lists the commands as the protocol table does.
+TEST(Protocol, TheManPageListsTheTable) {
+  std::ifstream in(std::string(BALLAST_SOURCE_DIR) + "/man/ballastd.8");
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string man = text.str();
+  const auto intro = man.find("Commands (fields in brackets are optional");
+  ASSERT_NE(intro, std::string::npos);
+  const auto begin = man.find(".nf\n", intro) + 4, end = man.find(".fi\n", begin);
+  EXPECT_EQ(man.substr(begin, end - begin), protocol::commandSynopsis())
+      << "man/ballastd.8's command list differs from daemon/server/protocol.hpp's table";
 }
 
 TEST(Protocol, EveryCommandIsFoundAndMotionNeedsTheLease) {
