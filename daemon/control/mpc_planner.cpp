@@ -51,10 +51,9 @@ void MpcPlanner::predict(double t, double lead) {
   }
 }
 
-void MpcPlanner::requestSettings(const ControlSettings& settings) {
-  auto next = std::make_unique<ControlSettings>(settings);
+void MpcPlanner::requestSettings(SettingsPtr settings) {
   std::lock_guard<std::mutex> lock(pending_mutex_);
-  pending_ = std::move(next);
+  pending_.swap(settings);  // a request not yet taken goes outside the lock
 }
 
 void MpcPlanner::setTerrain(std::shared_ptr<const terrain::HeightMap> terrain) {
@@ -65,7 +64,7 @@ void MpcPlanner::plan(const PlannerInput& input, PlannerOutput& output) {
   terrain_.refresh();
   const bool walk = input.mode == Mode::kWalk;
   if (input.restart || !walking_) {
-    std::unique_ptr<ControlSettings> next;
+    SettingsPtr next;
     {
       std::lock_guard<std::mutex> lock(pending_mutex_);
       next = std::move(pending_);

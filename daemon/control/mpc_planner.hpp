@@ -6,9 +6,10 @@
 //   mode stand -> standing, at the commanded pose (height, roll, pitch, yaw), with the joint
 //                 posture that realises it (StandPosture) as the joints' reference
 // PlannerInput::restart, or new settings, rebuild the LocomotionPlanner (the planner thread
-// allocates; the 1 kHz loop never does). New settings (a profile switch, handed over by the IO
-// thread through requestSettings()) take effect at the first plan made standing — a planner
-// rebuilt mid-stride would lose its gait phase — or at a restart.
+// allocates; the 1 kHz loop never does). New settings (a profile switch: the IO thread hands over
+// the value the loop switches to, shared, through requestSettings()) take effect at the first plan
+// made standing — a planner rebuilt mid-stride would lose its gait phase — or at a restart; the
+// planner lets go of them once it has taken their numbers.
 // A failed SQP iteration or a plan with a non-finite number is reported invalid with the
 // solver's message; the loop keeps its last valid plan and raises a planner fault.
 // The terrain (MapTerrain) is the world, not a setting: a map handed over by setTerrain() is
@@ -43,8 +44,9 @@ class MpcPlanner final : public Planner {
 
   void plan(const PlannerInput& input, PlannerOutput& output) override;
 
-  /// Any thread but the loop's: the settings for the next rebuild.
-  void requestSettings(const ControlSettings& settings);
+  /// Any thread but the loop's: the settings for the next rebuild (shared, not copied; a later
+  /// request replaces one not yet taken).
+  void requestSettings(SettingsPtr settings);
   /// Any thread but the loop's: the terrain from the next plan() on (MapTerrain::publish).
   void setTerrain(std::shared_ptr<const terrain::HeightMap> terrain);
 
@@ -70,7 +72,7 @@ class MpcPlanner final : public Planner {
   static constexpr int kFreshIterations = 5;
 
   std::mutex pending_mutex_;  // IO thread <-> planner thread only
-  std::unique_ptr<ControlSettings> pending_;
+  SettingsPtr pending_;
 };
 
 }  // namespace ballast::control

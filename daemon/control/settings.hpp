@@ -73,6 +73,9 @@ struct ControlSettings {
   int telemetry_decimation;
 };
 
+/// Settings as threads share them: a value nobody changes.
+using SettingsPtr = std::shared_ptr<const ControlSettings>;
+
 /// How a message names the setting at `field` (a member of s): its profile key, else `words`.
 inline const char* settingName(const ControlSettings& s, const void* field, const char* words) {
   const char* key = s.key_of ? s.key_of(s, field) : nullptr;

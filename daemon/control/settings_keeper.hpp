@@ -18,8 +18,6 @@
 
 namespace ballast::control {
 
-using SettingsPtr = std::shared_ptr<const ControlSettings>;
-
 class SettingsKeeper {
  public:
   /// Keeps `settings` for the command of this sequence (0: the loop's first settings); the

@@ -151,7 +151,7 @@ void Server::switchProfile(Client* c, const json& id, const std::string& name) {
 void Server::finishSwitch(Pending& p, bool applied, const char* message) {
   if (applied) {
     ctx_.settings = p.settings;
-    if (ctx_.planner) ctx_.planner->requestSettings(*p.settings);
+    if (ctx_.planner) ctx_.planner->requestSettings(p.settings);
     if (p.map) {
       ctx_.map = std::move(*p.map);
       if (ctx_.planner) ctx_.planner->setTerrain(ctx_.map.heights());

@@ -290,6 +290,37 @@ TEST(MpcPlannerInput, ANotANumberStateGivesNoPlan) {
   EXPECT_NE(std::strstr(out.message, "NaN"), nullptr) << out.message;
 }
 
+// A profile switch hands the planner the settings the loop switches to, shared and not copied;
+// it takes their numbers at its next plan made standing and lets go of them, and a request it
+// has not taken yet is replaced by a later one (the IO side then frees the first).
+TEST(MpcPlannerInput, NewSettingsAreSharedAndLetGoOnceTaken) {
+  const ControlSettings settings = simFlat();
+  MpcPlanner planner(test::humanoid(), settings, std::make_shared<const terrain::HeightMap>());
+  PlannerInput in;
+  in.mode = Mode::kStand;
+  in.restart = true;
+  in.state.num_joints = test::humanoid().nj();
+  for (int j = 0; j < in.state.num_joints; ++j) in.state.q[j] = settings.nominal_q[j];
+  in.state.base.position[2] = 0.89;
+  in.command.height = 0.89;
+  PlannerOutput out;
+  planner.plan(in, out);
+  ASSERT_TRUE(out.valid) << out.message;
+
+  SettingsPtr first = std::make_shared<const ControlSettings>(settings);
+  SettingsPtr second = std::make_shared<const ControlSettings>(settings);
+  planner.requestSettings(first);
+  EXPECT_EQ(first.use_count(), 2);
+  planner.requestSettings(second);
+  EXPECT_EQ(first.use_count(), 1);  // replaced before it was taken
+  EXPECT_EQ(second.use_count(), 2);
+  in.restart = false;
+  in.t = 0.01;
+  planner.plan(in, out);
+  EXPECT_TRUE(out.valid) << out.message;
+  EXPECT_EQ(second.use_count(), 1);  // taken: the planner keeps numbers, not the settings
+}
+
 class NoAllocation : public LoopOnFake {
  protected:
   void SetUp() override {
