@@ -2,6 +2,7 @@
 // and the header's key reference in step with the table.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -105,6 +106,31 @@ TEST(SimSettings, EveryDefaultObeysItsOwnBounds) {
     EXPECT_NE(std::string(key.doc), "") << key.name;
     EXPECT_NE(std::string(key.defaultYaml), "") << key.name;
   }
+}
+
+// The schema round-trips: every key written at its default (the table's YAML, as
+// `ballastd --dump-schema=yaml` writes the profile's) reads back as a section, each key taken
+// from the text, into the settings of an empty section.
+TEST(SimSettings, EveryKeyAtItsDefaultReadsBackAsASection) {
+  std::vector<const schema::Key*> keys;
+  for (const SettingKey& key : simSettingKeys()) keys.push_back(&key);
+  const std::string yaml = schema::yamlDefaults(keys);
+  SimSettings dumped;
+  try {
+    dumped = parseSimSettings(yaml, "dump.yaml:1");
+  } catch (const SettingsError& e) {
+    FAIL() << e.what() << "\n" << yaml;
+  }
+  const SimSettings empty = parseSimSettings("", "sim.yaml:1");
+  for (const SettingKey& key : simSettingKeys()) {
+    EXPECT_EQ(dumped.location.count(key.name), 1u) << key.name << " is not in the dump";
+    if (key.type == schema::Type::kNumber || key.type == schema::Type::kInteger ||
+        key.type == schema::Type::kBool)
+      EXPECT_EQ(std::memcmp(key.field(dumped), key.field(empty), key.size), 0) << key.name;
+  }
+  EXPECT_EQ(dumped.gravity, empty.gravity);
+  EXPECT_EQ(dumped.integrator, empty.integrator);
+  EXPECT_EQ(dumped.initial_joints, empty.initial_joints);
 }
 
 TEST(SimSettings, TheHeaderCommentListsEveryKeyWithItsDefault) {

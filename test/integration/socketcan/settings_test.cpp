@@ -2,6 +2,7 @@
 // file:line:column, the checks across keys, and the header comment that lists every key.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <fstream>
 #include <sstream>
 
@@ -160,6 +161,30 @@ TEST(SocketcanSettings, TheBackendChecksTheSectionAgainstTheUrdf) {
     badBus.replace(at, buses.spec(0).size(), "fd:999");
   const std::string closed = configureWith(badBus);
   EXPECT_NE(closed.find("bus fd:999: not an open socket"), std::string::npos) << closed;
+}
+
+// The schema round-trips: every key written at its default (the table's YAML, as
+// `ballastd --dump-schema=yaml` writes the profile's) reads back as a section, each key taken
+// from the text, into the settings of an empty section.
+TEST(SocketcanSettings, EveryKeyAtItsDefaultReadsBackAsASection) {
+  std::vector<const schema::Key*> keys;
+  for (const SettingKey& key : socketcanSettingKeys()) keys.push_back(&key);
+  const std::string yaml = schema::yamlDefaults(keys);
+  SocketcanSettings dumped;
+  try {
+    dumped = parseSocketcanSettings(yaml, "dump.yaml:1");
+  } catch (const SettingsError& e) {
+    FAIL() << e.what() << "\n" << yaml;
+  }
+  const SocketcanSettings empty = parseSocketcanSettings("", "robot.yaml:1");
+  for (const SettingKey& key : socketcanSettingKeys()) {
+    EXPECT_EQ(dumped.location.count(key.name), 1u) << key.name << " is not in the dump";
+    if (key.type == schema::Type::kNumber || key.type == schema::Type::kInteger ||
+        key.type == schema::Type::kBool)
+      EXPECT_EQ(std::memcmp(key.field(dumped), key.field(empty), key.size), 0) << key.name;
+  }
+  EXPECT_EQ(dumped.buses, empty.buses);
+  EXPECT_EQ(dumped.motors.size(), empty.motors.size());
 }
 
 TEST(SocketcanSettings, TheHeaderCommentListsEveryKeyWithItsDefault) {
