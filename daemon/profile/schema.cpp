@@ -55,7 +55,7 @@ const Schema<Settings> kTable({
 
   // ---- robot: the model and its standing posture
   path("robot.urdf", "", "robot model (URDF); required").needsRestart().into<&S::urdf>(),
-  strings("robot.contact_frames", kContactFramesDefault.c_str(), "the four contact points (URDF links): left toe, left heel, right toe, right heel").ofLength(4).needsRestart().into<&S::control, &C::contact_frames>(),
+  strings("robot.contact_frames", kContactFramesDefault.c_str(), "the four contact points (URDF links): left toe, left heel, right toe, right heel").ofLength(model::kNumContacts).needsRestart().into<&S::control, &C::contact_frames>(),
   text("robot.imu_frame", "imu", "URDF link of the IMU; it must be fixed to the floating base").needsRestart().into<&S::control, &C::imu_frame>(),
   groupMap("robot.joint_groups", "{}", "joint groups, name: [URDF joints]; every actuated joint belongs to exactly one").needsRestart().into<&S::joints, &J::groups>(),
   numberMap("robot.armature", "{}", 0, 10, "kg·m²", "reflected rotor inertia (rotor inertia times the gear ratio squared) per joint group or joint (a joint's entry wins over its group's), in the controller's model and the simulation; joints not listed: 0").needsRestart().into<&S::joints, &J::armature>(),
