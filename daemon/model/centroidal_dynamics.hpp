@@ -78,20 +78,4 @@ void centroidalDynamics(const Model& model, Data<S>& data, const std::vector<int
   xdot.segment(L.kJoints, L.nj) = vj;
 }
 
-/// World velocity of a frame's origin (3) under the motion ẋ = f(x, u): the base's linear and
-/// angular velocity from xdot plus the joints' own motion. Reads what centroidalDynamics(x, u,
-/// xdot) has just left in data (placements, the joint-only body velocities): a value without the
-/// Jacobians of frameKinematicsZyx (frame_derivatives_zyx.hpp), for cost evaluations.
-template <typename S, typename X, typename Xd>
-Vec3<S> frameVelocityZyx(const Model& model, const Data<S>& data, int frame,
-                         const Eigen::MatrixBase<X>& x, const Eigen::MatrixBase<Xd>& xdot) {
-  const Vec3<S> p = x.template segment<3>(CentroidalLayout::kBasePosition);
-  const Vec3<S> zyx = x.template segment<3>(CentroidalLayout::kBaseZyx);
-  const Vec3<S> pdot = xdot.template segment<3>(CentroidalLayout::kBasePosition);
-  const Vec3<S> omega =
-      zyxRateToAngularVelocity<S>(zyx) * xdot.template segment<3>(CentroidalLayout::kBaseZyx);
-  const Vec3<S> pc = framePlacement(model, data, frame).p;
-  return pdot + omega.cross(pc - p) + frameVelocity(model, data, frame).linear;
-}
-
 }  // namespace ballast::model

@@ -71,30 +71,20 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
   // x_mid = x + (dt/2)·[0; 0; v_j] (see the header); ∂x_mid/∂v_j = (dt/2)·I on the joints.
   ws.xMid = x;
   ws.xMid.segment(L.kJoints, nj).noalias() += 0.5 * dt * u.segment(L.jointVelocity(), nj);
-  if (!node) {
-    // A cost evaluation (the line search): values only, no Jacobians.
-    model::centroidalDynamics(model_, ws.data, contactFrames_, ws.xMid, u, ws.xdot);
-    for (int c = 0; c < kNumContacts; ++c) {
-      ws.contacts[c].position = model::framePlacement(model_, ws.data, contactFrames_[c]).p;
-      ws.contacts[c].velocity =
-          model::frameVelocityZyx(model_, ws.data, contactFrames_[c], ws.xMid, ws.xdot);
-    }
-  } else {
-    model::centroidalDynamicsDerivatives(model_, ws.data, contactFrames_, ws.xMid, u, ws.xdot, ws.Ax,
-                                         ws.Bu);
-    for (int c = 0; c < kNumContacts; ++c)
-      model::frameKinematicsZyx(model_, ws.data, contactFrames_[c], ws.xMid, ws.Ax, ws.Bu,
-                                ws.contacts[c]);
-    // Chain rule through x_mid: ∂/∂v_j += (dt/2)·∂/∂q_j.
-    const double half = 0.5 * dt;
-    ws.Bu.middleCols(L.jointVelocity(), nj).noalias() += half * ws.Ax.middleCols(L.kJoints, nj);
-    for (int c = 0; c < kNumContacts; ++c) {
-      model::FrameKinematicsZyx& k = ws.contacts[c];
-      k.dVelocity_du.middleCols(L.jointVelocity(), nj).noalias() +=
-          half * k.dVelocity_dx.middleCols(L.kJoints, nj);
-      ws.dPosition_du[c].setZero();
-      ws.dPosition_du[c].middleCols(L.jointVelocity(), nj) = half * k.dPosition_dx.middleCols(L.kJoints, nj);
-    }
+  model::centroidalDynamicsDerivatives(model_, ws.data, contactFrames_, ws.xMid, u, ws.xdot, ws.Ax,
+                                       ws.Bu);
+  for (int c = 0; c < kNumContacts; ++c)
+    model::frameKinematicsZyx(model_, ws.data, contactFrames_[c], ws.xMid, ws.Ax, ws.Bu,
+                              ws.contacts[c]);
+  // Chain rule through x_mid: ∂/∂v_j += (dt/2)·∂/∂q_j.
+  const double half = 0.5 * dt;
+  ws.Bu.middleCols(L.jointVelocity(), nj).noalias() += half * ws.Ax.middleCols(L.kJoints, nj);
+  for (int c = 0; c < kNumContacts; ++c) {
+    model::FrameKinematicsZyx& k = ws.contacts[c];
+    k.dVelocity_du.middleCols(L.jointVelocity(), nj).noalias() +=
+        half * k.dVelocity_dx.middleCols(L.kJoints, nj);
+    ws.dPosition_du[c].setZero();
+    ws.dPosition_du[c].middleCols(L.jointVelocity(), nj) = half * k.dPosition_dx.middleCols(L.kJoints, nj);
   }
   value.xdot = ws.xdot;
 
@@ -125,16 +115,12 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
       Eigen::Vector3d residual = k.velocity;
       model::Mat3X<double>& dx = ws.rowDx;
       model::Mat3X<double>& du = ws.rowDu;
-      if (node) {
-        dx = k.dVelocity_dx;
-        du = k.dVelocity_du;
-      }
+      dx = k.dVelocity_dx;
+      du = k.dVelocity_du;
       if (!ref.stance[c]) {  // v − (ṗ* + k_p (p* − p))
         residual -= ref.swingVelocity[c] + s.swingPositionGain * (ref.swingPosition[c] - k.position);
-        if (node) {
-          dx += s.swingPositionGain * k.dPosition_dx;
-          du += s.swingPositionGain * ws.dPosition_du[c];
-        }
+        dx += s.swingPositionGain * k.dPosition_dx;
+        du += s.swingPositionGain * ws.dPosition_du[c];
       }
       if (c == toe)
         putRows({0, 1, 2}, residual, dx, du);
