@@ -513,15 +513,15 @@ void ControlLoop::detectFall() {
   const Mode m = modes_.mode();
   if (!fallen_ || !(m == Mode::kStandUp || m == Mode::kStand || m == Mode::kWalk)) return;
   if (tilt > s.max_tilt)
-    std::snprintf(message_, sizeof(message_), "fall: base tilted %.2f rad (%s %.2f)", tilt,
+    std::snprintf(message_, sizeof(message_), "base tilted %.2f rad (%s %.2f)", tilt,
                   settingName(s, &s.max_tilt, "limit"), s.max_tilt);
   else if (height < s.min_base_height)
     std::snprintf(message_, sizeof(message_),
-                  "fall: base height %.3f m (%s %.3f)", height,
+                  "base height %.3f m (%s %.3f)", height,
                   settingName(s, &s.min_base_height, "limit"), s.min_base_height);
   else
     std::snprintf(message_, sizeof(message_),
-                  "fall: a body other than the feet touches the ground");
+                  "a body other than the feet touches the ground");
   raise(FaultKind::kFall, message_);
 }
 

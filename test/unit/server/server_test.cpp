@@ -25,7 +25,7 @@ TEST(StatusJson, CarriesTheDesignNames) {
   s.command.expires_at = 2.0;
   s.contacts[0] = true;
   s.tick_overruns = 3;
-  s.faults.add(control::FaultKind::kFall, 1.2, "fall: base tilted");
+  s.faults.add(control::FaultKind::kFall, 1.2, "base tilted 0.90 rad");
   StatusExtras x;
   x.profile = "sim-flat";
   x.backend = "simbody";
@@ -44,7 +44,7 @@ TEST(StatusJson, CarriesTheDesignNames) {
   EXPECT_TRUE(j["timing"].contains("mpc_ms"));
   EXPECT_TRUE(j["timing"].contains("wbc_ms"));
   EXPECT_EQ(j["faults"][0]["kind"], "fall");
-  EXPECT_EQ(j["faults"][0]["message"], "fall: base tilted");
+  EXPECT_EQ(j["faults"][0]["message"], "base tilted 0.90 rad");
   EXPECT_FALSE(j.contains("truth"));  // no ground truth on hardware
   s.has_truth = true;
   s.truth.position[0] = std::nan("");
