@@ -19,42 +19,47 @@ ParallelFor::~ParallelFor() {
   for (auto& w : workers_) w.join();
 }
 
-void ParallelFor::work(int thread) {
-  for (int i = next_.fetch_add(1); i < n_; i = next_.fetch_add(1)) call_(body_, i, thread);
+void ParallelFor::work(const Job& job, int thread) {
+  const std::uint64_t tag = static_cast<std::uint64_t>(job.run) << 32;
+  std::uint64_t v = next_.load(std::memory_order_acquire);
+  for (;;) {
+    // Claim the next index of this run, or stop: the run is over or its indices are all taken.
+    if ((v & ~0xffffffffull) != tag || static_cast<int>(v & 0xffffffffu) >= job.n) return;
+    if (!next_.compare_exchange_weak(v, v + 1, std::memory_order_acq_rel)) continue;
+    job.call(job.body, static_cast<int>(v & 0xffffffffu), thread);
+    done_.fetch_add(1, std::memory_order_release);
+    v = next_.load(std::memory_order_acquire);
+  }
 }
 
 void ParallelFor::runErased(int n, void* body, Trampoline call) {
+  Job job;
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    n_ = n;
-    body_ = body;
-    call_ = call;
-    next_ = 0;
-    busy_ = static_cast<int>(workers_.size());
-    ++generation_;
+    job = Job{job_.run + 1, n, body, call};
+    job_ = job;
+    done_.store(0, std::memory_order_relaxed);
+    next_.store(static_cast<std::uint64_t>(job.run) << 32, std::memory_order_release);
   }
   wake_.notify_all();
-  work(0);
-  std::unique_lock<std::mutex> lock(mutex_);
-  done_.wait(lock, [this] { return busy_ == 0; });
+  work(job, 0);
+  // What is left is at most one index per worker, already running: wait for it by spinning.
+  while (done_.load(std::memory_order_acquire) < n) std::this_thread::yield();
 }
 
 void ParallelFor::workerLoop(int thread) {
   pthread_setname_np(pthread_self(), ("ballast-mpc-" + std::to_string(thread)).c_str());
-  unsigned long seen = 0;
+  std::uint32_t seen = 0;
   for (;;) {
+    Job job;
     {
       std::unique_lock<std::mutex> lock(mutex_);
-      wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
+      wake_.wait(lock, [&] { return stop_ || job_.run != seen; });
       if (stop_) return;
-      seen = generation_;
+      job = job_;
+      seen = job.run;
     }
-    work(thread);
-    {
-      std::lock_guard<std::mutex> lock(mutex_);
-      --busy_;
-    }
-    done_.notify_one();
+    work(job, thread);
   }
 }
 
