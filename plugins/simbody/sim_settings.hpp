@@ -101,6 +101,8 @@
 #include <array>
 
 #include "settings_schema.hpp"
+#include "rolling_lidar.hpp"     // plugins/common
+#include "sensor_model.hpp"      // plugins/common
 
 namespace ballast::simbody {
 
@@ -158,5 +160,10 @@ SimSettings parseSimSettings(const std::string& yaml, const std::string& origin)
 
 /// The key reference as text (the listing in this header's comment).
 std::string simSettingsReference();
+
+/// The sensor keys, for the shared sensor model.
+plugin::SensorNoise sensorNoise(const SimSettings& settings);
+/// The lidar.* keys, for the shared rolling lidar.
+plugin::LidarSettings lidarSettings(const SimSettings& settings);
 
 }  // namespace ballast::simbody

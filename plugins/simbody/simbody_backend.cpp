@@ -79,8 +79,8 @@ bool SimbodyBackend::configure(const backend::Config& config, backend::Error& er
     for (int j = 0; j < caps_.num_joints; ++j)
       std::snprintf(caps_.joint_names[j], backend::kNameLength, "%s",
                     world_->jointNames()[static_cast<std::size_t>(j)].c_str());
-    sensors_.configure(settings_, period_, config.seed);
-    if (lidarEnabled_) lidar_.configure(settings_, config.seed);
+    sensors_.configure(sensorNoise(settings_), period_, config.seed);
+    if (lidarEnabled_) lidar_.configure(lidarSettings(settings_), config.seed);
     host_.configure(settings_.host_stall_at, settings_.host_stall, settings_.host_jitter_from,
                     settings_.host_jitter_fraction, settings_.host_jitter, config.seed);
     queue_.assign(static_cast<std::size_t>(settings_.motor_latency_ticks + 1), QueuedCommands{});
@@ -132,9 +132,38 @@ backend::Status SimbodyBackend::fault(const char* message) {
 }
 
 void SimbodyBackend::sampleSensors() {
-  sensors_.sample(*world_, sample_);
+  sample_.num_joints = world_->numJoints();
+  world_->jointState(sample_.q, sample_.dq);
+  world_->motorTorques(sample_.tau);
+  sample_.has_truth = true;
+  world_->truth(sample_.truth);
+  const ImuTruth imu = world_->imu();
+  plugin::ImuTruth reading;
+  const SimTK::Quaternion q = imu.R_GI.convertRotationToQuaternion();
+  for (int i = 0; i < 3; ++i) {
+    reading.orientation[i] = q[i + 1];
+    reading.angular_velocity[i] = imu.angularVelocity[i];
+    reading.specific_force[i] = imu.specificForce[i];
+  }
+  reading.orientation[3] = q[0];
+  sensors_.sample(reading, world_->time(), sample_);
   sample_.time = world_->time();
   ++sample_.sequence;
+}
+
+void SimbodyBackend::scanLidar() {
+  const SimTK::Transform X = world_->lidarPose();
+  double origin[3], R[9];
+  for (int i = 0; i < 3; ++i) {
+    origin[i] = X.p()[i];
+    for (int j = 0; j < 3; ++j) R[3 * i + j] = X.R()[i][j];
+  }
+  const Terrain& terrain = world_->terrain();
+  lidar_.tick(world_->time(), origin, R,
+              [&](const double* o, const double* d, double maxRange, double& range) {
+                return terrain.castRay(SimTK::Vec3(o[0], o[1], o[2]),
+                                       SimTK::Vec3(d[0], d[1], d[2]), maxRange, range);
+              });
 }
 
 backend::Status SimbodyBackend::read(backend::Sensors& sensors) {
@@ -193,7 +222,7 @@ backend::Status SimbodyBackend::advance(backend::TickTiming& timing) {
     // periods with the motors holding their last command.
     world_->stepTo(static_cast<double>(tick_ + 1) * period_);
     ++tick_;
-    if (lidarEnabled_) lidar_.tick(world_->time(), world_->lidarPose(), world_->terrain());
+    if (lidarEnabled_) scanLidar();
     sampleSensors();
   } catch (const std::exception& e) {
     faulted_ = true;

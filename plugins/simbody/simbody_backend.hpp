@@ -62,12 +62,12 @@
 #include <vector>
 
 #include "backend_abi.hpp"
-#include "lidar.hpp"
-#include "sensor_model.hpp"
+#include "host_delays.hpp"    // plugins/common
+#include "rolling_lidar.hpp"  // plugins/common
+#include "sensor_model.hpp"   // plugins/common
 #include "sim_settings.hpp"
 #include "simbody_world.hpp"
-#include "host_delays.hpp"  // plugins/common
-#include "tick_pacer.hpp"   // plugins/common
+#include "tick_pacer.hpp"     // plugins/common
 
 namespace ballast::simbody {
 
@@ -94,13 +94,14 @@ class SimbodyBackend final : public backend::Backend {
  private:
   backend::Status fault(const char* message);
   void sampleSensors();
+  void scanLidar();
 
   backend::Capabilities caps_;
   backend::Error lastError_;
   SimSettings settings_;
   std::unique_ptr<SimbodyWorld> world_;
-  SensorModel sensors_;
-  RollingLidar lidar_;
+  plugin::SensorModel sensors_;
+  plugin::RollingLidar lidar_;
   bool lidarEnabled_ = false;
   double period_ = 0.001;
   bool lockstep_ = true;

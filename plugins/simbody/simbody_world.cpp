@@ -4,16 +4,14 @@
 #include <cmath>
 #include <set>
 
+#include "initial_posture.hpp"  // plugins/common
+
 namespace ballast::simbody {
 namespace {
 
 constexpr double kBodyProbeSpacing = 0.1;  // m between probe spheres on a body's surface
 constexpr double kBodyProbeRadius = 0.01;  // m
 constexpr double kDivergedSpeed = 1e3;     // m/s or rad/s: no robot gets there
-
-bool endsWith(const std::string& s, const std::string& tail) {
-  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-}
 
 std::unique_ptr<SimTK::Integrator> makeIntegrator(const std::string& name,
                                                   const SimTK::MultibodySystem& system) {
@@ -180,38 +178,8 @@ void SimbodyWorld::buildProbes(const SimSettings& s) {
 }
 
 void SimbodyWorld::computeInitialPosture(const SimSettings& s) {
-  const std::vector<std::string>& names = mb_->jointNames;
-  auto index = [&](const std::string& name) {
-    return static_cast<int>(std::find(names.begin(), names.end(), name) - names.begin());
-  };
-  const bool stand = s.initial_posture == "stand";
-  initialQ_.assign(names.size(), 0.0);
-  if (stand)
-    for (std::size_t j = 0; j < names.size(); ++j) {
-      if (endsWith(names[j], "hip_pitch")) initialQ_[j] = -0.4;
-      if (endsWith(names[j], "knee")) initialQ_[j] = 0.8;
-    }
-  std::set<int> given;
-  for (const auto& [name, angle] : s.initial_joints) {
-    const int j = index(name);
-    const std::string key = "initial_joints." + name;
-    if (j == numJoints())
-      throw std::runtime_error(s.where(key) + urdfPath_ + " has no movable joint '" + name + "'");
-    const auto [lower, upper] = mb_->positionLimits.at(name);
-    if (angle < lower || angle > upper)
-      throw std::runtime_error(s.where(key) + std::to_string(angle) +
-                               " rad is outside the joint's limits [" + std::to_string(lower) +
-                               ", " + std::to_string(upper) + "]");
-    initialQ_[j] = angle;
-    given.insert(j);
-  }
-  if (stand)  // level soles: the ankle undoes hip and knee pitch
-    for (std::size_t j = 0; j < names.size(); ++j) {
-      if (!endsWith(names[j], "ankle_pitch") || given.count(static_cast<int>(j))) continue;
-      const std::string side = names[j].substr(0, names[j].size() - std::string("ankle_pitch").size());
-      const int hip = index(side + "hip_pitch"), knee = index(side + "knee");
-      if (hip < numJoints() && knee < numJoints()) initialQ_[j] = -(initialQ_[hip] + initialQ_[knee]);
-    }
+  initialQ_ = plugin::initialPosture(mb_->jointNames, mb_->positionLimits, s.initial_posture,
+                                     s.initial_joints, s, urdfPath_);
 }
 
 void SimbodyWorld::reset() {

@@ -1,43 +1,15 @@
 #include "terrain.hpp"
 
-#include <octomap/OcTree.h>
-
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <limits>
-#include <memory>
+
+#include "terrain_columns.hpp"  // plugins/common
 
 namespace ballast::simbody {
 namespace {
 
 constexpr float kNoColumn = -std::numeric_limits<float>::infinity();
-constexpr long kMaxColumns = 16L * 1024 * 1024;  // 64 MB of heights: a 80 m square at 2 cm
-
-bool endsWith(const std::string& s, const std::string& tail) {
-  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-}
-
-std::unique_ptr<octomap::OcTree> readTree(const std::string& path) {
-  if (!std::ifstream(path)) throw std::runtime_error(path + ": cannot read the terrain map");
-  if (endsWith(path, ".bt")) {
-    auto tree = std::make_unique<octomap::OcTree>(0.1);
-    if (!tree->readBinary(path))
-      throw std::runtime_error(path + ": not a binary OctoMap file (.bt)");
-    return tree;
-  }
-  if (endsWith(path, ".ot")) {
-    std::unique_ptr<octomap::AbstractOcTree> any(octomap::AbstractOcTree::read(path));
-    if (!any) throw std::runtime_error(path + ": not an OctoMap file (.ot)");
-    if (auto* tree = dynamic_cast<octomap::OcTree*>(any.get())) {
-      any.release();
-      return std::unique_ptr<octomap::OcTree>(tree);
-    }
-    throw std::runtime_error(path + ": holds a " + any->getTreeType() +
-                             ", the simulation reads an OcTree");
-  }
-  throw std::runtime_error(path + ": a terrain map is an OctoMap file ending in .bt or .ot");
-}
 
 }  // namespace
 
@@ -69,47 +41,15 @@ Terrain Terrain::fromHeights(double x0, double y0, double resolution, int nx, in
 }
 
 Terrain Terrain::fromOctomap(const std::string& path, bool floor, double floorHeight) {
-  const std::unique_ptr<octomap::OcTree> tree = readTree(path);
-  const double res = tree->getResolution();
-  struct Leaf {
-    double x, y, size, top;
-  };
-  std::vector<Leaf> leaves;
-  double minX = SimTK::Infinity, minY = SimTK::Infinity;
-  double maxX = -SimTK::Infinity, maxY = -SimTK::Infinity;
-  for (auto it = tree->begin_leafs(), end = tree->end_leafs(); it != end; ++it) {
-    if (!tree->isNodeOccupied(*it)) continue;
-    const double s = it.getSize();
-    const Leaf leaf{it.getX() - s / 2, it.getY() - s / 2, s, it.getZ() + s / 2};
-    minX = std::min(minX, leaf.x);
-    minY = std::min(minY, leaf.y);
-    maxX = std::max(maxX, leaf.x + s);
-    maxY = std::max(maxY, leaf.y + s);
-    leaves.push_back(leaf);
-  }
-  if (leaves.empty()) {
+  plugin::TerrainColumns columns = plugin::loadTerrainColumns(path);
+  if (columns.empty()) {
     if (!floor)
       throw std::runtime_error(path + ": the map has no occupied cells and the floor is off: "
                                       "there is no terrain");
-    return fromHeights(0, 0, res, 0, 0, {}, floor, floorHeight);
+    return fromHeights(0, 0, columns.resolution, 0, 0, {}, floor, floorHeight);
   }
-  const long nx = std::lround((maxX - minX) / res), ny = std::lround((maxY - minY) / res);
-  if (nx * ny > kMaxColumns)
-    throw std::runtime_error(path + ": the map covers " + std::to_string(nx) + " x " +
-                             std::to_string(ny) + " columns, more than the simulation takes (" +
-                             std::to_string(kMaxColumns) + ")");
-  std::vector<float> tops(static_cast<std::size_t>(nx * ny), kNoColumn);
-  for (const Leaf& leaf : leaves) {
-    const long ix0 = std::lround((leaf.x - minX) / res), iy0 = std::lround((leaf.y - minY) / res);
-    const long n = std::max(1L, std::lround(leaf.size / res));
-    for (long iy = iy0; iy < std::min(iy0 + n, ny); ++iy)
-      for (long ix = ix0; ix < std::min(ix0 + n, nx); ++ix) {
-        float& top = tops[static_cast<std::size_t>(ix + nx * iy)];
-        top = std::max(top, static_cast<float>(leaf.top));
-      }
-  }
-  return fromHeights(minX, minY, res, static_cast<int>(nx), static_cast<int>(ny), std::move(tops),
-                     floor, floorHeight);
+  return fromHeights(columns.x0, columns.y0, columns.resolution, columns.nx, columns.ny,
+                     std::move(columns.tops), floor, floorHeight);
 }
 
 double Terrain::heightAt(double x, double y) const {

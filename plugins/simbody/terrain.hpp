@@ -1,10 +1,9 @@
-// The simulated terrain: an OctoMap map turned into a height field of solid columns, plus an
-// optional infinite floor plane. World frame, z up, metres.
+// The simulated terrain: an OctoMap map turned into a height field of solid columns
+// (plugins/common/terrain_columns.hpp, as the mujoco backend does too), plus an optional infinite
+// floor plane. World frame, z up, metres.
 //
-// Each occupied leaf of the map fills the columns (map-resolution squares) it covers up to its
-// top face; a column is solid from its top down (overhangs become solid). So a 10 cm stage in a
-// 2 cm map is a block with vertical sides and sharp edges: a foot can stand on it and catch its
-// edge. Queries are exact for this geometry:
+// A 10 cm stage in a 2 cm map is a block with vertical sides and sharp edges: a foot can stand
+// on it and catch its edge. Queries are exact for this geometry:
 //   - signedDistance(): distance from a point to the union of the columns and the floor, with
 //     the outward surface normal (a point beside a stage sees the side face or the edge);
 //   - castRay(): the first hit along a ray (simulated lidar);
