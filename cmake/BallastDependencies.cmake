@@ -16,6 +16,19 @@ find_program(GNUPLOT_EXECUTABLE gnuplot)               # `ballast plot`; optiona
 if(BALLAST_WITH_SIMBODY)
   find_package(Simbody 3.7 REQUIRED CONFIG)            # ${Simbody_LIBRARIES}; users need -UNDEBUG
 endif()
+if(BALLAST_WITH_MUJOCO)
+  find_package(mujoco 2.2 REQUIRED CONFIG)             # mujoco::mujoco (2.2.2 on bookworm)
+  # Debian's mujocoTargets.cmake names /usr/include/libqhull_r/ (libqhull-dev, which nothing
+  # here needs) among the target's include directories, and CMake refuses a missing one.
+  get_target_property(_mujoco_includes mujoco::mujoco INTERFACE_INCLUDE_DIRECTORIES)
+  set(_mujoco_existing)
+  foreach(dir IN LISTS _mujoco_includes)
+    if(EXISTS "${dir}")
+      list(APPEND _mujoco_existing "${dir}")
+    endif()
+  endforeach()
+  set_target_properties(mujoco::mujoco PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${_mujoco_existing}")
+endif()
 if(BALLAST_BUILD_TESTS)
   find_package(GTest REQUIRED)                         # GTest::gtest_main
 endif()

@@ -278,7 +278,8 @@ TEST_F(ProfileTest, DescribeShowsValuesWithOrigins) {
 }
 
 TEST(ShippedProfiles, LoadAndCheckAgainstTheModel) {
-  for (const char* name : {"sim-flat", "sim-stage", "sim-rough", "hardware-example"}) {
+  for (const char* name : {"sim-flat", "sim-stage", "sim-rough", "hardware-example",
+                           "sim-flat-mujoco", "sim-stage-mujoco"}) {
     SCOPED_TRACE(name);
     const std::string path = std::string(BALLAST_SOURCE_DIR) + "/profiles/" + name + ".yaml";
     try {
@@ -291,6 +292,15 @@ TEST(ShippedProfiles, LoadAndCheckAgainstTheModel) {
   }
   const Profile flat = Profile::load(std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat.yaml");
   EXPECT_EQ(flat.text("backend.name"), "simbody");
+  // The MuJoCo profiles are the Simbody ones with another backend.
+  for (const char* name : {"sim-flat", "sim-stage"}) {
+    const Profile simbody = Profile::load(std::string(BALLAST_SOURCE_DIR) + "/profiles/" + name + ".yaml");
+    const Profile mujoco =
+        Profile::load(std::string(BALLAST_SOURCE_DIR) + "/profiles/" + name + "-mujoco.yaml");
+    EXPECT_EQ(mujoco.text("backend.name"), "mujoco");
+    EXPECT_EQ(mujoco.text("terrain.map"), simbody.text("terrain.map")) << name;
+    EXPECT_EQ(mujoco.text("robot.urdf"), simbody.text("robot.urdf")) << name;
+  }
   const Profile hw =
       Profile::load(std::string(BALLAST_SOURCE_DIR) + "/profiles/hardware-example.yaml");
   EXPECT_EQ(hw.text("backend.name"), "socketcan");

@@ -1,0 +1,259 @@
+#include "mujoco_backend.hpp"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+
+namespace ballast::mujoco {
+namespace {
+
+using backend::Status;
+
+bool readable(const std::string& path) { return access(path.c_str(), R_OK) == 0; }
+
+/// The settings' terrain_map, as given if readable, else next to the profile.
+std::string resolveMap(const MujocoSettings& s) {
+  if (s.terrain_map.empty() || s.terrain_map[0] == '/' || readable(s.terrain_map))
+    return s.terrain_map;
+  const std::string profile = s.origin.substr(0, s.origin.rfind(':'));
+  const auto slash = profile.rfind('/');
+  const std::string dir = slash == std::string::npos ? "." : profile.substr(0, slash);
+  const std::string beside = dir + "/" + s.terrain_map;
+  if (readable(beside)) return beside;
+  throw std::runtime_error(s.where("terrain_map") + "cannot read " + s.terrain_map +
+                           " (nor " + beside + ")");
+}
+
+}  // namespace
+
+bool MujocoBackend::configure(const backend::Config& config, backend::Error& error) {
+  started_ = faulted_ = false;
+  world_.reset();
+  try {
+    settings_ = parseMujocoSettings(config.section_yaml ? config.section_yaml : "",
+                                 config.section_origin ? config.section_origin : "");
+    if (!(config.period > 0.0 && config.period <= 0.1))
+      throw std::runtime_error("Config::period " + std::to_string(config.period) +
+                               " s: the control period must be in (0, 0.1] s");
+    if (!config.urdf_path || !*config.urdf_path)
+      throw std::runtime_error("Config::urdf_path is empty: the simulation needs the robot's URDF");
+    WorldOptions options;
+    options.urdfPath = config.urdf_path;
+    for (int i = 0; i < config.num_contacts; ++i) {
+      if (!config.contact_frames || !config.contact_frames[i])
+        throw std::runtime_error("Config::contact_frames[" + std::to_string(i) + "] is missing");
+      options.contactFrames.emplace_back(config.contact_frames[i]);
+    }
+    options.settings = settings_;
+    for (int i = 0; i < config.num_joint_models; ++i)
+      if (config.joints && config.joints[i].name) {
+        if (config.joints[i].armature < 0.0 || !std::isfinite(config.joints[i].armature))
+          throw std::runtime_error(std::string("Config::joints: joint ") + config.joints[i].name +
+                                   ": armature must be finite and >= 0");
+        options.armature[config.joints[i].name] = config.joints[i].armature;
+      }
+    options.terrainMap = settings_.terrain_map.empty()
+                             ? std::string(config.terrain_map ? config.terrain_map : "")
+                             : resolveMap(settings_);
+    if (!settings_.terrain_map.empty()) options.terrainMapWhere = settings_.where("terrain_map");
+    options.period = config.period;
+    world_ = std::make_unique<MujocoWorld>(options);
+
+    period_ = config.period;
+    lockstep_ = config.lockstep;
+    caps_ = backend::Capabilities{};
+    std::snprintf(caps_.name, sizeof caps_.name, "mujoco");
+    caps_.simulation = true;
+    caps_.lockstep = true;
+    caps_.ground_truth = true;
+    caps_.lidar = lidarEnabled_ = settings_.lidar_enabled;
+    caps_.disturbance = true;
+    caps_.position_fix = settings_.position_fix_rate > 0.0;
+    caps_.num_joints = world_->numJoints();
+    for (int j = 0; j < caps_.num_joints; ++j)
+      std::snprintf(caps_.joint_names[j], backend::kNameLength, "%s",
+                    world_->jointNames()[static_cast<std::size_t>(j)].c_str());
+    sensors_.configure(sensorNoise(settings_), period_, config.seed);
+    if (lidarEnabled_) lidar_.configure(lidarSettings(settings_), config.seed);
+    host_.configure(settings_.host_stall_at, settings_.host_stall, settings_.host_jitter_from,
+                    settings_.host_jitter_fraction, settings_.host_jitter, config.seed);
+    queue_.assign(static_cast<std::size_t>(settings_.motor_latency_ticks + 1), QueuedCommands{});
+  } catch (const std::exception& e) {
+    world_.reset();
+    copyMessage(error, e.what());
+    return false;
+  } catch (...) {  // nothing may cross the plugin boundary
+    world_.reset();
+    copyMessage(error, "mujoco: configure failed with an unknown exception");
+    return false;
+  }
+  copyMessage(error, "");
+  return true;
+}
+
+bool MujocoBackend::start(backend::Error& error) {
+  if (!world_) {
+    copyMessage(error, "mujoco: start() before a successful configure()");
+    return false;
+  }
+  try {
+    world_->reset();
+  } catch (const std::exception& e) {
+    copyMessage(error, e.what());
+    return false;
+  } catch (...) {
+    copyMessage(error, "mujoco: start failed with an unknown exception");
+    return false;
+  }
+  for (QueuedCommands& q : queue_) q.tick = -1;
+  tick_ = 0;
+  pacer_ = plugin::TickPacer{};
+  sensors_.start();
+  if (lidarEnabled_) lidar_.start(0.0);
+  sample_ = backend::Sensors{};
+  lastReadSequence_ = 0;
+  sampleSensors();
+  started_ = true;
+  faulted_ = false;
+  copyMessage(lastError_, "");
+  copyMessage(error, "");
+  return true;
+}
+
+backend::Status MujocoBackend::fault(const char* message) {
+  copyMessage(lastError_, message);
+  return Status::kFault;
+}
+
+void MujocoBackend::sampleSensors() {
+  sample_.num_joints = world_->numJoints();
+  world_->jointState(sample_.q, sample_.dq);
+  world_->motorTorques(sample_.tau);
+  sample_.has_truth = true;
+  world_->truth(sample_.truth);
+  sensors_.sample(world_->imu(), world_->time(), sample_);
+  sample_.time = world_->time();
+  ++sample_.sequence;
+}
+
+void MujocoBackend::scanLidar() {
+  double origin[3], R[9];
+  world_->lidarPose(origin, R);
+  const MujocoWorld& world = *world_;
+  lidar_.tick(world_->time(), origin, R,
+              [&](const double* o, const double* d, double maxRange, double& range) {
+                return world.castRay(o, d, maxRange, range);
+              });
+}
+
+backend::Status MujocoBackend::read(backend::Sensors& sensors) {
+  if (!started_) return fault("mujoco: read() on a backend that is not started");
+  if (faulted_) return Status::kFault;
+  sensors = sample_;
+  if (sample_.sequence == lastReadSequence_) return Status::kStale;
+  lastReadSequence_ = sample_.sequence;
+  return Status::kOk;
+}
+
+backend::Status MujocoBackend::write(const backend::Commands& commands) {
+  if (!started_) return fault("mujoco: write() on a backend that is not started");
+  if (faulted_) return Status::kFault;
+  const int n = world_->numJoints();
+  if (commands.num_joints != n) {
+    char msg[160];
+    std::snprintf(msg, sizeof msg, "mujoco: commands for %d joints, the robot has %d; ignored",
+                  commands.num_joints, n);
+    copyMessage(lastError_, msg);
+    return Status::kFault;
+  }
+  for (int j = 0; j < n; ++j) {
+    const backend::JointCommand& c = commands.joint[j];
+    const char* bad = !std::isfinite(c.tau_ff)   ? "tau_ff is not finite"
+                      : !std::isfinite(c.q_des)  ? "q_des is not finite"
+                      : !std::isfinite(c.dq_des) ? "dq_des is not finite"
+                      : !(c.kp >= 0.0 && std::isfinite(c.kp)) ? "kp is negative or not finite"
+                      : !(c.kd >= 0.0 && std::isfinite(c.kd)) ? "kd is negative or not finite"
+                                                              : nullptr;
+    if (bad) {
+      char msg[200];
+      std::snprintf(msg, sizeof msg, "mujoco: joint %d (%s): %s; commands ignored", j,
+                    caps_.joint_names[j], bad);
+      copyMessage(lastError_, msg);
+      return Status::kFault;
+    }
+  }
+  QueuedCommands& slot = queue_[tick_ % queue_.size()];
+  slot.tick = static_cast<std::int64_t>(tick_);
+  std::copy(commands.joint, commands.joint + n, slot.joint);
+  return Status::kOk;
+}
+
+backend::Status MujocoBackend::advance(backend::TickTiming& timing) {
+  timing = backend::TickTiming{};
+  const timespec begin = plugin::monotonicNow();
+  if (!started_) return fault("mujoco: advance() on a backend that is not started");
+  if (faulted_) return Status::kFault;
+  if (!lockstep_ && tick_ == 0) pacer_.start(period_);  // the schedule starts with the first tick
+  const std::int64_t due = static_cast<std::int64_t>(tick_) - settings_.motor_latency_ticks;
+  const QueuedCommands& slot = queue_[static_cast<std::size_t>(due >= 0 ? due : 0) % queue_.size()];
+  if (due >= 0 && slot.tick == due) world_->setMotorCommands(slot.joint);
+  try {
+    // After a stall (real time) the world has gone on meanwhile: it steps through the skipped
+    // periods with the motors holding their last command.
+    world_->stepTo(static_cast<double>(tick_ + 1) * period_);
+    ++tick_;
+    if (lidarEnabled_) scanLidar();
+    sampleSensors();
+  } catch (const std::exception& e) {
+    faulted_ = true;
+    return fault(e.what());
+  } catch (...) {
+    faulted_ = true;
+    return fault("mujoco: the simulation failed with an unknown exception");
+  }
+  if (lockstep_) return Status::kOk;
+  host_.delay(world_->time());
+  const double work = plugin::secondsBetween(begin, plugin::monotonicNow());
+  timing = pacer_.wait();
+  timing.work = work;
+  tick_ += timing.skipped;
+  return Status::kOk;
+}
+
+void MujocoBackend::stop() {
+  if (started_ && world_ && !faulted_) {
+    backend::JointCommand off[backend::kMaxJoints] = {};
+    world_->setMotorCommands(off);
+  }
+  started_ = false;
+}
+
+bool MujocoBackend::push(const backend::Push& push, backend::Error& error) {
+  if (!started_ || faulted_) {
+    copyMessage(error, "mujoco: push() needs a started, healthy simulation");
+    return false;
+  }
+  try {
+    const std::string body(push.body, strnlen(push.body, sizeof push.body));
+    std::string message;
+    if (!world_->push(body, push.force, push.duration, message)) {
+      copyMessage(error, ("mujoco: " + message).c_str());
+      return false;
+    }
+  } catch (...) {
+    copyMessage(error, "mujoco: push failed with an unknown exception");
+    return false;
+  }
+  copyMessage(error, "");
+  return true;
+}
+
+bool MujocoBackend::lidarScan(backend::PointCloudView& scan) {
+  return started_ && lidarEnabled_ && lidar_.take(scan);
+}
+
+}  // namespace ballast::mujoco

@@ -1,0 +1,142 @@
+#include "mujoco_settings.hpp"
+
+#include "format.hpp"
+
+namespace ballast::mujoco {
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+constexpr double kHalfPi = 1.5707963267948966;
+
+using S = MujocoSettings;
+using R = schema::Rule<MujocoSettings>;
+using namespace schema;  // the row declarations
+
+// Documentation groups.
+constexpr const char* kContact = "Contact and terrain";
+constexpr const char* kSimulation = "Simulation";
+constexpr const char* kMotors = "Motors";
+constexpr const char* kSensors = "Sensors";
+constexpr const char* kLidar = "Lidar";
+constexpr const char* kLocalisation = "Localisation";
+constexpr const char* kInitial = "Initial state (start())";
+constexpr const char* kHost = "Host delays (real time; to test the daemon's deadline policy)";
+
+// Keys that mean what the simbody backend's mean have its names, defaults and bounds
+// (plugins/simbody/sim_settings.cpp); the contact and simulation keys are MuJoCo's own.
+// clang-format off
+const Schema<MujocoSettings> kSchema({
+  number("friction", "0.8", 0, 3, "", "Coulomb friction coefficient μ between the robot and the terrain").inGroup(kContact).into<&S::friction>(),
+  number("contact_timeconst", "0.02", 1e-4, 1, "", "time constant (s) of MuJoCo's soft contact (solref[0], MuJoCo's default): smaller is stiffer; at least 2 timesteps; 0.02 sinks the standing robot 0.7 mm").inGroup(kContact).into<&S::contact_timeconst>(),
+  number("contact_dampratio", "1", 0.01, 100, "", "damping ratio of the soft contact (solref[1]); 1: critically damped").inGroup(kContact).into<&S::contact_dampratio>(),
+  numbers("contact_impedance", "[0.9, 0.95, 0.001]", 1e-4, 1, "", "MuJoCo solimp [dmin, dmax, width (m)]: constraint impedance from dmin at the surface to dmax at width deep").ofLength(3).inGroup(kContact).into<&S::contact_impedance>(),
+  choice("cone", "elliptic", "elliptic|pyramidal", "friction cone: elliptic (exact Coulomb) or pyramidal (MuJoCo's default, 4 edges)").inGroup(kContact).into<&S::cone>(),
+  number("foot_sphere_radius", "0.01", 1e-3, 0.05, "", "radius (m) of the contact spheres on the soles (two per contact point: the foot has area)").inGroup(kContact).into<&S::foot_sphere_radius>(),
+  number("foot_width", "0", 0, 0.5, "", "distance (m) between the outer edges of a contact point's two spheres; 0: the width of the foot's collision box").inGroup(kContact).into<&S::foot_width>(),
+  flag("body_contact", "true", "bodies other than the feet collide with the terrain too (their URDF collision shapes), for falls").inGroup(kContact).into<&S::body_contact>(),
+  text("terrain_map", "\"\"", "OctoMap file (.bt/.ot) simulated instead of Config::terrain_map (to test mapping); relative: to the working directory, else to the profile's").inGroup(kContact).into<&S::terrain_map>(),
+  flag("floor", "true", "an infinite floor plane under the map (or alone, without a map)").inGroup(kContact).into<&S::floor>(),
+  number("floor_height", "0", -100, 100, "", "height (m) of that floor").inGroup(kContact).into<&S::floor_height>(),
+  integer("substeps", "1", 1, 100, "", "MuJoCo steps per control tick: timestep = period / substeps; the motor model acts in every one").inGroup(kSimulation).into<&S::substeps>(),
+  choice("integrator", "euler", "euler|implicit", "MuJoCo integrator: euler (semi-implicit, joint damping and the motors' kd implicit) or implicit (in velocity)").inGroup(kSimulation).into<&S::integrator>(),
+  choice("solver", "newton", "newton|cg|pgs", "MuJoCo constraint solver").inGroup(kSimulation).into<&S::solver>(),
+  integer("solver_iterations", "100", 1, 10000, "", "constraint solver iterations at most").inGroup(kSimulation).into<&S::solver_iterations>(),
+  number("solver_tolerance", "1.0e-8", 0, 1, "", "constraint solver tolerance").inGroup(kSimulation).into<&S::solver_tolerance>(),
+  numbers("gravity", "[0, 0, -9.81]", -100, 100, "", "gravity (m/s², world frame)").ofLength(3).inGroup(kSimulation).into<&S::gravity>(),
+  integer("motor_latency_ticks", "0", 0, 64, "", "commands written at tick k act from tick k + N (before the first one arrives, motors are off)").inGroup(kMotors).into<&S::motor_latency_ticks>(),
+  number("torque_limit_scale", "1", 0, 10, "", "multiplies every URDF <limit effort> (the motor torque limit)").inGroup(kMotors).into<&S::torque_limit_scale>(),
+  number("joint_damping", "0", 0, 100, "", "viscous friction (N·m·s/rad) in every joint (MuJoCo joint damping, implicit)").inGroup(kMotors).into<&S::joint_damping>(),
+  flag("joint_limits", "true", "MuJoCo limit constraints at the URDF position limits").inGroup(kMotors).into<&S::joint_limits>(),
+  number("joint_limit_timeconst", "0.02", 1e-4, 1, "", "MuJoCo limit constraint time constant (s) at the URDF position limits (solreflimit, critically damped); at least 2 timesteps").inGroup(kMotors).into<&S::joint_limit_timeconst>(),
+  number("encoder_resolution", "0", 0, 0.1, "", "joint position quantisation (rad); 0: exact").inGroup(kSensors).into<&S::encoder_resolution>(),
+  number("joint_velocity_noise", "0", 0, 10, "", "white noise σ (rad/s) on joint velocities").inGroup(kSensors).into<&S::joint_velocity_noise>(),
+  number("torque_noise", "0", 0, 100, "", "white noise σ (N·m) on measured joint torques").inGroup(kSensors).into<&S::torque_noise>(),
+  text("imu.frame", "imu", "URDF link of the IMU").inGroup(kSensors).into<&S::imu_frame>(),
+  number("imu.gyro_noise_density", "2.4e-4", 0, 1, "", "gyro white noise (rad/s/√Hz); σ per sample = density / √period").inGroup(kSensors).into<&S::imu_gyro_noise_density>(),
+  number("imu.gyro_bias", "0", 0, 1, "", "σ (rad/s) of the per-axis gyro bias, drawn once at start").inGroup(kSensors).into<&S::imu_gyro_bias>(),
+  number("imu.accel_noise_density", "1.5e-3", 0, 10, "", "accelerometer white noise (m/s²/√Hz)").inGroup(kSensors).into<&S::imu_accel_noise_density>(),
+  number("imu.accel_bias", "0", 0, 5, "", "σ (m/s²) of the per-axis accelerometer bias, drawn once at start").inGroup(kSensors).into<&S::imu_accel_bias>(),
+  number("imu.orientation_noise", "0", 0, 0.5, "", "σ (rad) of a random small rotation applied to the reported orientation").inGroup(kSensors).into<&S::imu_orientation_noise>(),
+  flag("lidar.enabled", "true", "simulate the lidar (Capabilities::lidar)").inGroup(kLidar).into<&S::lidar_enabled>(),
+  text("lidar.frame", "lidar", "URDF link of the sensor; rays in its x-forward, z-up frame").inGroup(kLidar).into<&S::lidar_frame>(),
+  number("lidar.rate", "10", 0.1, 100, "", "scans per second (Hz)").inGroup(kLidar).into<&S::lidar_rate>(),
+  integer("lidar.horizontal_rays", "180", 1, 4096, "", "rays per scan line").inGroup(kLidar).into<&S::lidar_horizontal_rays>(),
+  integer("lidar.vertical_rays", "16", 1, 256, "", "scan lines").inGroup(kLidar).into<&S::lidar_vertical_rays>(),
+  number("lidar.horizontal_fov", "6.283185307179586", 1e-3, kTwoPi, "", "horizontal field of view (rad), centred on x").inGroup(kLidar).into<&S::lidar_horizontal_fov>(),
+  number("lidar.vertical_min", "-1.0", -kHalfPi, kHalfPi, "", "elevation (rad) of the lowest scan line").inGroup(kLidar).into<&S::lidar_vertical_min>(),
+  number("lidar.vertical_max", "0.25", -kHalfPi, kHalfPi, "", "elevation (rad) of the highest scan line (>= vertical_min)").inGroup(kLidar).into<&S::lidar_vertical_max>(),
+  number("lidar.min_range", "0.1", 0, 100, "", "nearer hits are dropped (m)").inGroup(kLidar).into<&S::lidar_min_range>(),
+  number("lidar.max_range", "10", 0.1, 200, "", "farther hits are dropped (m; > min_range)").inGroup(kLidar).into<&S::lidar_max_range>(),
+  number("lidar.range_noise", "0", 0, 1, "", "white noise σ (m) along each ray").inGroup(kLidar).into<&S::lidar_range_noise>(),
+  number("position_fix.rate", "0", 0, 100, "", "fixes per second (Hz) of the base position, as lidar scans matched against the map give them (Capabilities::position_fix); 0: none").inGroup(kLocalisation).into<&S::position_fix_rate>(),
+  number("position_fix.noise", "0.01", 1e-5, 1, "", "white noise σ (m) per axis on each fix").inGroup(kLocalisation).into<&S::position_fix_noise>(),
+  choice("initial_posture", "stand", "stand|zero", "stand: *hip_pitch -0.4, *knee 0.8, *ankle_pitch -(hip_pitch + knee) so the soles are level, others 0; zero: all 0").inGroup(kInitial).into<&S::initial_posture>(),
+  numberMap("initial_joints", "{}", -kTwoPi, kTwoPi, "", "joint name -> angle (rad) overriding the posture; within the URDF limits").inGroup(kInitial).into<&S::initial_joints>(),
+  numbers("initial_xy", "[0, 0]", -1e4, 1e4, "", "base position (m) over the terrain").ofLength(2).inGroup(kInitial).into<&S::initial_xy>(),
+  number("initial_yaw", "0", -kTwoPi, kTwoPi, "", "base heading (rad)").inGroup(kInitial).into<&S::initial_yaw>(),
+  number("initial_clearance", "0", 0, 1000, "", "gap (m) between the lowest contact sphere and the terrain under it (0: touching)").inGroup(kInitial).into<&S::initial_clearance>(),
+  number("host.stall_at", "-1", -1, 1e6, "", "simulated time (s) at which the control host stalls once, for host.stall; -1: never").inGroup(kHost).into<&S::host_stall_at>(),
+  number("host.stall", "0.05", 0, 10, "", "length (s, wall time) of that stall").inGroup(kHost).into<&S::host_stall>(),
+  number("host.jitter_from", "0", 0, 1e6, "", "simulated time (s) from which ticks are delayed at random").inGroup(kHost).into<&S::host_jitter_from>(),
+  number("host.jitter_fraction", "0", 0, 1, "", "fraction of ticks delayed by host.jitter; 0: none").inGroup(kHost).into<&S::host_jitter_fraction>(),
+  number("host.jitter", "0.002", 0, 1, "", "delay (s, wall time) of a jittered tick").inGroup(kHost).into<&S::host_jitter>(),
+
+  R{"lidar.vertical_max", [](const S& s) {
+      return s.lidar_vertical_min > s.lidar_vertical_max
+                 ? "is below lidar.vertical_min (" + formatNumber(s.lidar_vertical_min) + ")"
+                 : std::string();
+    }},
+  R{"lidar.max_range", [](const S& s) {
+      return s.lidar_min_range >= s.lidar_max_range
+                 ? "must be above lidar.min_range (" + formatNumber(s.lidar_min_range) + ")"
+                 : std::string();
+    }},
+  R{"contact_impedance", [](const S& s) {
+      return s.contact_impedance[0] > s.contact_impedance[1]
+                 ? "dmin (" + formatNumber(s.contact_impedance[0]) + ") is above dmax (" +
+                       formatNumber(s.contact_impedance[1]) + ")"
+                 : std::string();
+    }},
+});
+// clang-format on
+
+}  // namespace
+
+const std::vector<SettingKey>& mujocoSettingKeys() { return kSchema.rows(); }
+
+MujocoSettings parseMujocoSettings(const std::string& yaml, const std::string& origin) {
+  return schema::parseSection(kSchema, yaml, origin, "the mujoco backend section");
+}
+
+std::string mujocoSettingsReference() { return schema::textReference(kSchema.keys()); }
+
+plugin::SensorNoise sensorNoise(const MujocoSettings& s) {
+  plugin::SensorNoise n;
+  n.encoder_resolution = s.encoder_resolution;
+  n.joint_velocity_noise = s.joint_velocity_noise;
+  n.torque_noise = s.torque_noise;
+  n.gyro_noise_density = s.imu_gyro_noise_density;
+  n.gyro_bias = s.imu_gyro_bias;
+  n.accel_noise_density = s.imu_accel_noise_density;
+  n.accel_bias = s.imu_accel_bias;
+  n.orientation_noise = s.imu_orientation_noise;
+  n.position_fix_rate = s.position_fix_rate;
+  n.position_fix_noise = s.position_fix_noise;
+  return n;
+}
+
+plugin::LidarSettings lidarSettings(const MujocoSettings& s) {
+  plugin::LidarSettings l;
+  l.rate = s.lidar_rate;
+  l.horizontal_rays = s.lidar_horizontal_rays;
+  l.vertical_rays = s.lidar_vertical_rays;
+  l.horizontal_fov = s.lidar_horizontal_fov;
+  l.vertical_min = s.lidar_vertical_min;
+  l.vertical_max = s.lidar_vertical_max;
+  l.min_range = s.lidar_min_range;
+  l.max_range = s.lidar_max_range;
+  l.range_noise = s.lidar_range_noise;
+  return l;
+}
+
+}  // namespace ballast::mujoco
