@@ -107,3 +107,18 @@ for_seconds() {
   t_end=$(calc "$(field t) + $1")
   until time_after "$t_end" 0; do never_damped; sleep 0.1; done
 }
+
+# motion_report TSV: the ground-truth base over a recorded telemetry file, for the README's
+# backend table: mean base height, its RMS about that mean, and the RMS tilt (roll and pitch).
+motion_report() {
+  awk -F '\t' '
+    /^# t\t/ { for (i = 2; i <= NF; ++i) col[$i] = i; next }
+    /^#/ { next }
+    { z = $(col["true_z"]); r = $(col["true_roll"]); p = $(col["true_pitch"]);
+      n++; sz += z; szz += z * z; st += r * r + p * p }
+    END {
+      if (n == 0) { print "motion: no samples"; exit }
+      m = sz / n; v = szz / n - m * m; if (v < 0) v = 0
+      printf "motion: base height %.3f m (RMS about it %.1f mm), tilt RMS %.2f deg over %d samples\n", m, 1000 * sqrt(v), sqrt(st / n) * 45 / atan2(1, 1), n
+    }' "$1"
+}

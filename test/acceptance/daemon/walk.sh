@@ -21,6 +21,7 @@ yaw1=$(field truth.base.rpy.2)
 ballast record stop >/dev/null || fail "record stop"
 healthy
 [ "$(field mode)" = walk ] || fail "stopped walking before the command's 11 s"
+motion_report "$WORK/walk.tsv"
 
 dt=$(calc "$t1 - $t0")
 # Displacement in the heading frame of the window's start, and the yaw rate (unwrapped).

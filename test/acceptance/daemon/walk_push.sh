@@ -9,8 +9,11 @@ wait_until "stand" 30 mode_is stand
 ballast walk --vx 0.5 --for 12s >/dev/null || fail "walk"
 sim_time_passes 4
 ballast push --force "$FORCE,0,0" --duration 1s --body torso >/dev/null || fail "push"
+ballast record start "$WORK/push.tsv" >/dev/null || fail "record start"
 sim_time_passes 4
+ballast record stop >/dev/null || fail "record stop"
 healthy
 [ "$(field mode)" = walk ] || fail "not walking after the push"
+motion_report "$WORK/push.tsv"
 stop_daemon
 echo "ok: took a $FORCE N push for 1 s while walking"

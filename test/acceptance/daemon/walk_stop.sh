@@ -11,6 +11,7 @@ sim_time_passes 4
 healthy
 ballast stop >/dev/null || fail "stop"
 t0=$(field t)
+ballast record start "$WORK/stop.tsv" >/dev/null || fail "record start"
 at_rest() {
   [ "$(field mode)" = stand ] &&
     awk -v vx="$(field truth.base.velocity.0)" -v vy="$(field truth.base.velocity.1)" \
@@ -19,7 +20,9 @@ at_rest() {
 }
 wait_until "the robot at rest" 60 at_rest
 t1=$(field t)
+ballast record stop >/dev/null || fail "record stop"
 echo "at rest $(calc "$t1 - $t0") s after stop"
+motion_report "$WORK/stop.tsv"
 awk -v a="$t1" -v b="$t0" 'BEGIN { exit !(a - b <= 2.0) }' || fail "took $(calc "$t1 - $t0") s to stop"
 healthy
 stop_daemon

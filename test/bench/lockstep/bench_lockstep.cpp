@@ -5,6 +5,7 @@
 // sim (the backend's step), wbc (plan sampling and whole-body controller), estimator, planner
 // (the loop posting and waiting for plans), other (status, telemetry, commands).
 // One iteration: one second of simulated walking, after standing up and a second of walking.
+// BM_LockstepWalkMujoco: the same on the MuJoCo backend (where its plugin is built).
 #include <benchmark/benchmark.h>
 
 #include <memory>
@@ -54,5 +55,13 @@ void lockstepWalk(benchmark::State& state, const std::string& profile, double vx
 
 void BM_LockstepWalk(benchmark::State& state) { lockstepWalk(state, "sim-flat.yaml", 1.0); }
 BENCHMARK(BM_LockstepWalk)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(5);
+
+#ifdef BALLAST_LOCKSTEP_MUJOCO
+// The same walk on the MuJoCo backend (profiles/sim-flat-mujoco.yaml: only the backend differs).
+void BM_LockstepWalkMujoco(benchmark::State& state) {
+  lockstepWalk(state, "sim-flat-mujoco.yaml", 1.0);
+}
+BENCHMARK(BM_LockstepWalkMujoco)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(5);
+#endif
 
 }  // namespace

@@ -468,5 +468,34 @@ TEST(MujocoSimulation, RealTimeModeKeepsAbsoluteDeadlinesAndSkipsPeriodsAfterASt
   EXPECT_NEAR(after.time - before.time, (skipped + 1) * config.period, 1e-9);
 }
 
+TEST(MujocoSimulation, HostDelaysStallOnceAndJitterAFractionOfTicks) {
+  SimConfig config;
+  config.lockstep = false;
+  config.period = 0.002;
+  config.yaml = "host:\n  stall_at: 0.05\n  stall: 0.012\n  jitter_from: 0.1\n"
+                "  jitter_fraction: 0.1\n  jitter: 0.004\n";
+  MujocoBackend sim;
+  backend::Error error;
+  ASSERT_TRUE(sim.configure(config.config(), error) && sim.start(error)) << error.message;
+  backend::TickTiming timing;
+  int late = 0, lateAfterJitterStarts = 0;
+  double worst = 0.0;
+  for (int k = 0; k < 250; ++k) {
+    ASSERT_EQ(sim.advance(timing), Status::kOk);
+    if (!timing.late) continue;
+    ++late;
+    worst = std::max(worst, timing.lateness);
+    backend::Sensors s;
+    sim.read(s);
+    if (s.time > 0.1) ++lateAfterJitterStarts;
+  }
+  // As for the simbody backend: one tick at least 10 ms late, about 10 % of the 200 ticks after
+  // 0.1 s late (binomial 20 ± 4.2; the bounds are 3 σ).
+  EXPECT_GE(worst, 0.010);
+  EXPECT_GE(lateAfterJitterStarts, 7);
+  EXPECT_LE(lateAfterJitterStarts, 45);
+  EXPECT_GE(late, lateAfterJitterStarts + 1);
+}
+
 }  // namespace
 }  // namespace ballast::mujoco
