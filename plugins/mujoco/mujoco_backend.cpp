@@ -13,6 +13,9 @@ namespace {
 
 using backend::Status;
 
+/// Share of each real-time period the simulation may take before its world waits (as Simbody's).
+constexpr double kSimulationShare = 0.5;
+
 bool readable(const std::string& path) { return access(path.c_str(), R_OK) == 0; }
 
 /// The settings' terrain_map, as given if readable, else next to the profile.
@@ -215,7 +218,12 @@ backend::Status MujocoBackend::advance(backend::TickTiming& timing) {
     faulted_ = true;
     return fault("mujoco: the simulation failed with an unknown exception");
   }
+  const timespec stepped = plugin::monotonicNow();
   if (lockstep_) return Status::kOk;
+  // The world's own computing beyond half a period does not exist for the robot: the world
+  // waits (the schedule moves on) rather than the controller looking late.
+  const double stepping = plugin::secondsBetween(begin, stepped);
+  pacer_.pause(stepping - kSimulationShare * period_);
   host_.delay(world_->time());
   const double work = plugin::secondsBetween(begin, plugin::monotonicNow());
   timing = pacer_.wait();

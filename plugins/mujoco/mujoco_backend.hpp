@@ -29,7 +29,9 @@
 // copies that sample. In real time (Config::lockstep false) advance() then sleeps to an absolute
 // deadline (plugins/common/tick_pacer.hpp) and reports the tick's lateness; after a stall the
 // schedule skips the periods gone and the next advance() simulates them with the motors holding
-// their last command, so simulated time stays wall time. host_* keys inject host delays (a
+// their last command, so simulated time stays wall time. The simulation's own computing beyond
+// half a period pauses the schedule instead (the world waits; simulated time falls behind the
+// wall for a moment), as in the Simbody backend. host_* keys inject host delays (a
 // stall, jitter) before the pacing. Lockstep runs repeat bit for bit for a seed (MuJoCo steps
 // on one thread; every random draw is seeded).
 // Bad commands (wrong joint count, NaN/inf, negative gains) return kFault and are ignored (the

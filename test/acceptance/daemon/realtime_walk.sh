@@ -1,6 +1,6 @@
 #!/bin/sh
 # Real time (issue 12 §2): ballastd without --lockstep, the whole controller (estimator, planner
-# thread, whole-body controller) on the Simbody robot: stand, pose the base and back, walk at VX
+# thread, whole-body controller) on a simulated robot: stand, pose the base and back, walk at VX
 # for 20 s, stand again.
 # Never damped, never fallen; the forward velocity over the walk's last 10 s within 10 % of the
 # command (ground truth). Prints the schedule's figures (status timing).

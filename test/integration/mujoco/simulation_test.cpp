@@ -1,15 +1,13 @@
 // The MuJoCo robot's physics and sensors: the checks the simbody backend's simulation has
 // (test/integration/simbody/simulation_test.cpp), through the backend class itself so the tests
 // can also look at what the ABI does not carry (energy, momentum, penetration). Lockstep
-// throughout: deterministic and faster than real time.
+// throughout: deterministic and faster than real time (the real-time tests: realtime_test.cpp).
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <random>
-#include <thread>
 
 #include "mujoco_backend.hpp"
 #include "terrain_maps.hpp"
@@ -440,61 +438,6 @@ TEST_F(MujocoStageMap, TheRobotStandsOnTheStage) {
   EXPECT_NEAR(stage.sensors.truth.base_position[2] - floor.sensors.truth.base_position[2], 0.10, 1e-3);
   EXPECT_LT(stage.world().maxPenetration(), 0.005);
   EXPECT_LT(std::abs(stage.world().baseVelocity()[2]), 0.005);
-}
-
-TEST(MujocoSimulation, RealTimeModeKeepsAbsoluteDeadlinesAndSkipsPeriodsAfterAStall) {
-  SimConfig config;
-  config.lockstep = false;
-  config.period = 0.002;
-  MujocoBackend sim;
-  backend::Error error;
-  ASSERT_TRUE(sim.configure(config.config(), error) && sim.start(error)) << error.message;
-  const auto t0 = std::chrono::steady_clock::now();
-  backend::TickTiming timing;
-  for (int k = 0; k < 25; ++k) ASSERT_EQ(sim.advance(timing), Status::kOk);
-  EXPECT_GE(std::chrono::steady_clock::now() - t0, std::chrono::milliseconds(50));
-  const std::uint64_t lateBefore = sim.lateTicks();
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  ASSERT_EQ(sim.advance(timing), Status::kOk);
-  EXPECT_TRUE(timing.late);
-  EXPECT_GE(timing.lateness, 0.018);
-  EXPECT_GE(timing.skipped, 9u);
-  EXPECT_EQ(sim.lateTicks(), lateBefore + 1);
-  const std::uint32_t skipped = timing.skipped;
-  backend::Sensors before, after;
-  ASSERT_EQ(sim.read(before), Status::kOk);
-  ASSERT_EQ(sim.advance(timing), Status::kOk);
-  ASSERT_EQ(sim.read(after), Status::kOk);
-  EXPECT_NEAR(after.time - before.time, (skipped + 1) * config.period, 1e-9);
-}
-
-TEST(MujocoSimulation, HostDelaysStallOnceAndJitterAFractionOfTicks) {
-  SimConfig config;
-  config.lockstep = false;
-  config.period = 0.002;
-  config.yaml = "host:\n  stall_at: 0.05\n  stall: 0.012\n  jitter_from: 0.1\n"
-                "  jitter_fraction: 0.1\n  jitter: 0.004\n";
-  MujocoBackend sim;
-  backend::Error error;
-  ASSERT_TRUE(sim.configure(config.config(), error) && sim.start(error)) << error.message;
-  backend::TickTiming timing;
-  int late = 0, lateAfterJitterStarts = 0;
-  double worst = 0.0;
-  for (int k = 0; k < 250; ++k) {
-    ASSERT_EQ(sim.advance(timing), Status::kOk);
-    if (!timing.late) continue;
-    ++late;
-    worst = std::max(worst, timing.lateness);
-    backend::Sensors s;
-    sim.read(s);
-    if (s.time > 0.1) ++lateAfterJitterStarts;
-  }
-  // As for the simbody backend: one tick at least 10 ms late, about 10 % of the 200 ticks after
-  // 0.1 s late (binomial 20 ± 4.2; the bounds are 3 σ).
-  EXPECT_GE(worst, 0.010);
-  EXPECT_GE(lateAfterJitterStarts, 7);
-  EXPECT_LE(lateAfterJitterStarts, 45);
-  EXPECT_GE(late, lateAfterJitterStarts + 1);
 }
 
 }  // namespace
