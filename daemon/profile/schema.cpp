@@ -317,6 +317,7 @@ suffix, e.g.
 .PP
 The backend's own keys live in a map named after the backend,
 .BR backend.simbody ,
+.BR backend.mujoco ,
 .BR backend.socketcan ;
 ballastd passes that map, as YAML text with its file and line, to the plugin, which checks
 it. A backend section other than the one of
@@ -339,6 +340,9 @@ the default: Simbody simulation, flat floor
 .TP
 .I profiles/sim\-stage.yaml, profiles/sim\-rough.yaml
 simulation with a stage to step onto, and on rough ground
+.TP
+.I profiles/sim\-flat\-mujoco.yaml, profiles/sim\-stage\-mujoco.yaml
+sim\-flat and sim\-stage on the MuJoCo simulation: only the backend differs
 .TP
 .I profiles/hardware\-example.yaml
 a SocketCAN robot: a template to adapt
