@@ -1,6 +1,7 @@
 #!/bin/sh
 # `cmake --install` into a scratch prefix gives a tree that runs on its own: the programs, the
-# Simbody plugin, the profiles, the robot model, the maps the profiles name and the man pages;
+# Simbody plugin (and MuJoCo's where built), the profiles, the robot model, the maps the
+# profiles name and the man pages;
 # the installed ballastd loads the installed plugin (not the build tree's), stands the robot up
 # and stops cleanly. Usage: install.sh BUILD_DIR
 set -eu
@@ -23,7 +24,11 @@ for p in sim-flat sim-stage sim-rough hardware-example; do
   [ -e "$SHARE/profiles/$p.yaml" ] || fail "profile $p not installed"
 done
 # Every installed profile that runs here validates against the installed model and maps.
-for p in sim-flat sim-stage sim-rough; do
+profiles="sim-flat sim-stage sim-rough"
+if [ -n "$(find "$PREFIX" -name libballast_backend_mujoco.so)" ]; then
+  profiles="$profiles sim-flat-mujoco sim-stage-mujoco"
+fi
+for p in $profiles; do
   "$PREFIX/bin/ballastd" --profile "$SHARE/profiles/$p.yaml" --check >/dev/null 2>&1 ||
     fail "installed profile $p does not validate: $("$PREFIX/bin/ballastd" --profile "$SHARE/profiles/$p.yaml" --check 2>&1)"
 done
