@@ -125,8 +125,9 @@ TEST(SimSettings, EveryKeyAtItsDefaultReadsBackAsASection) {
   for (const SettingKey& key : simSettingKeys()) {
     EXPECT_EQ(dumped.location.count(key.name), 1u) << key.name << " is not in the dump";
     if (key.type == schema::Type::kNumber || key.type == schema::Type::kInteger ||
-        key.type == schema::Type::kBool)
+        key.type == schema::Type::kBool) {
       EXPECT_EQ(std::memcmp(key.field(dumped), key.field(empty), key.size), 0) << key.name;
+    }
   }
   EXPECT_EQ(dumped.gravity, empty.gravity);
   EXPECT_EQ(dumped.integrator, empty.integrator);
