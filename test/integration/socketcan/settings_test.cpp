@@ -180,8 +180,9 @@ TEST(SocketcanSettings, EveryKeyAtItsDefaultReadsBackAsASection) {
   for (const SettingKey& key : socketcanSettingKeys()) {
     EXPECT_EQ(dumped.location.count(key.name), 1u) << key.name << " is not in the dump";
     if (key.type == schema::Type::kNumber || key.type == schema::Type::kInteger ||
-        key.type == schema::Type::kBool)
+        key.type == schema::Type::kBool) {
       EXPECT_EQ(std::memcmp(key.field(dumped), key.field(empty), key.size), 0) << key.name;
+    }
   }
   EXPECT_EQ(dumped.buses, empty.buses);
   EXPECT_EQ(dumped.motors.size(), empty.motors.size());
