@@ -40,7 +40,7 @@ set -e
 [ $code -eq 1 ] || fail "a broken profile was not refused (exit $code)"
 echo "$out" | grep -q "broken.yaml:3:" || fail "the refusal does not name the line: $out"
 [ "$(field profile)" = stiff ] || fail "the running profile did not stay"
-ballast walk --vx 0.5 --for 6s >/dev/null || fail "walk"
+ballast walk --vx 0.5 --for 8s >/dev/null || fail "walk"
 sim_time_passes 2
 ballast profile use "$WORK/high-steps.yaml" >/dev/null || fail "profile use high-steps while walking"
 [ "$(field profile)" = high-steps ] || fail "the switch while walking did not take"

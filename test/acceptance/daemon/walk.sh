@@ -9,7 +9,7 @@ VX=$4 VY=$5 WZ=$6 TOL=$7
 
 start_daemon
 wait_until "stand" 30 mode_is stand
-ballast walk --vx "$VX" --vy "$VY" --yaw-rate "$WZ" --for 11s >/dev/null || fail "walk"
+ballast walk --vx "$VX" --vy "$VY" --yaw-rate "$WZ" --for 20s >/dev/null || fail "walk"
 wait_until "the loop to take the walk command" 10 mode_is walk
 sim_time_passes 5
 ballast record start "$WORK/walk.tsv" >/dev/null || fail "record start"
@@ -20,7 +20,7 @@ t1=$(field t) x1=$(field truth.base.position.0) y1=$(field truth.base.position.1
 yaw1=$(field truth.base.rpy.2)
 ballast record stop >/dev/null || fail "record stop"
 healthy
-[ "$(field mode)" = walk ] || fail "stopped walking before the command's 11 s"
+[ "$(field mode)" = walk ] || fail "stopped walking before the command's 20 s"
 motion_report "$WORK/walk.tsv"
 
 dt=$(calc "$t1 - $t0")
