@@ -27,7 +27,8 @@
 
 namespace ballast::backend {
 
-inline constexpr std::uint32_t kBackendAbiVersion = 3;  // 2: position fixes; 3: TickTiming
+// 2: position fixes; 3: TickTiming; 4: Config::contact_points, BackendEntry::check
+inline constexpr std::uint32_t kBackendAbiVersion = 4;
 inline constexpr const char* kBackendEntrySymbol = "ballast_backend_entry";
 
 inline constexpr int kMaxJoints = 32;
@@ -74,14 +75,25 @@ struct JointModel {
   double locked_position = 0.0;  ///< rad or m
 };
 
+/// A contact point as the profile places it: on a URDF link, at a position in the link's frame
+/// (a vendor's URDF has no links at the toes and heels).
+struct ContactPoint {
+  const char* link = "";       ///< URDF link
+  double position[3] = {};     ///< m, in the link's frame
+};
+
 /// What ballastd hands a backend at configure time.
 struct Config {
   const char* section_yaml = "";    ///< the profile's backend section (its own keys), YAML text
   const char* section_origin = "";  ///< "file:line" where that section starts, for messages
   const char* urdf_path = "";       ///< the robot model the controller uses
   const char* terrain_map = "";     ///< OctoMap file (.bt/.ot) the planner uses; "" = flat floor
-  const char* const* contact_frames = nullptr;  ///< URDF link names of the contact points
+  /// The contact points' names (Truth::contact order): a URDF link, or "<role>@<link>" for a
+  /// point the profile places on a link (contact_points says where).
+  const char* const* contact_frames = nullptr;
   int num_contacts = 0;
+  /// Where each contact point is (num_contacts of them; null: at the links contact_frames name).
+  const ContactPoint* contact_points = nullptr;
   /// The controller's per-joint model data, one entry per movable URDF joint it knows; a
   /// joint absent here has no armature and is free.
   const JointModel* joints = nullptr;
@@ -178,7 +190,9 @@ class Backend {
   virtual ~Backend() = default;
 
   /// Reads the profile section and builds the world/opens the buses. On failure returns false
-  /// with a message naming the section (config.section_origin), the key and what is wrong.
+  /// with a message naming the section (config.section_origin), the key and what is wrong; on
+  /// success `error` may carry a note for the operator's log (what the backend chose, e.g. the
+  /// simulation's foot contact), which ballastd logs at info.
   virtual bool configure(const Config& config, Error& error) = 0;
   /// Valid after a successful configure().
   virtual const Capabilities& capabilities() const = 0;
@@ -224,6 +238,11 @@ struct BackendEntry {
   const char* description;
   Backend* (*create)();
   void (*destroy)(Backend*);
+  /// Checks a configuration as configure() would (the section, the URDF against it, files it
+  /// names) without building a world or touching hardware: `ballastd --check`. True if a
+  /// configure() would accept it; otherwise false with the message configure() would give.
+  /// Null: the plugin cannot check without configuring (ballastd says so).
+  bool (*check)(const Config& config, Error& error);
 };
 
 }  // namespace ballast::backend

@@ -131,7 +131,9 @@ int main(int argc, char** argv) {
   app.add_option("--dump-schema", dumpSchema,
                  "print every profile key: man (ballast-profile(5)) or yaml, and exit")
       ->check(CLI::IsMember({"man", "yaml"}));
-  app.add_flag("--check", check, "validate the profile (and the robot model) and exit");
+  app.add_flag("--check", check,
+               "validate the profile as a start would (the robot model, the terrain map, the "
+               "backend's own section through its plugin) without starting anything, and exit");
   app.set_version_flag("--version", BALLAST_VERSION);
   try {
     app.parse(argc, argv);
@@ -170,9 +172,11 @@ int main(int argc, char** argv) {
     d = std::make_unique<daemon::Daemon>(options);
     if (check) {
       const profile::Profile& prof = d->profile();
-      std::printf("profile %s is valid (%zu file%s; robot %s, %d joints)\n", prof.path().c_str(),
-                  prof.files().size(), prof.files().size() == 1 ? "" : "s",
-                  d->model().name.c_str(), d->model().nj());
+      std::printf("profile %s is valid (%zu file%s; robot %s, %d joints; backend %s: %s)\n",
+                  prof.path().c_str(), prof.files().size(), prof.files().size() == 1 ? "" : "s",
+                  d->model().name.c_str(), d->model().nj(), d->settings().backend.name.c_str(),
+                  d->backendChecked() ? "its section checked by the plugin"
+                                      : ("not checked: " + d->backendNote()).c_str());
       return 0;
     }
     d->startTelemetry();
@@ -189,6 +193,7 @@ int main(int argc, char** argv) {
                BALLAST_VERSION, d->profile().name(), caps.name,
                caps.simulation ? "simulation" : "hardware", lockstep ? ", lockstep" : "",
                d->pluginPath(), d->model().name, d->model().nj(), d->settings().control.rate);
+  if (!d->backendNote().empty()) spdlog::info("backend {}: {}", caps.name, d->backendNote());
   if (!lockstep) {
     lockMemory();
     reportKernelPreemption();

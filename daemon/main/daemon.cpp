@@ -32,19 +32,23 @@ Daemon::Daemon(const DaemonOptions& options) {
     if (!context_.map.load(settings_.terrain_map, ground, error))
       throw StartupError(problem(&settings_.terrain_map, error));
   }
-  if (options.check_only) return;
-
   // The backend: its own profile section, the robot, the contact points, the control period.
   try {
     plugin_ = backend::Plugin::load(settings_.backend.name, settings_.backend.plugin_dirs);
-    backend_ = plugin_->create();
   } catch (const backend::PluginError& e) {
     throw StartupError(problem(&settings_.backend.name, e.what()));
   }
-  if (!backend_) throw StartupError("backend " + plugin_->path() + ": create() returned nothing");
   const profile::Profile::BackendSection section = prof.backendSection();
   std::vector<const char*> contacts;
-  for (const auto& f : settings_.control.contact_frames) contacts.push_back(f.c_str());
+  std::vector<backend::ContactPoint> points;
+  for (std::size_t i = 0; i < settings_.control.contact_frames.size(); ++i) {
+    contacts.push_back(settings_.control.contact_frames[i].c_str());
+    const schema::FrameRef& ref = settings_.contact_points[i];
+    backend::ContactPoint p;
+    p.link = ref.link.c_str();
+    for (int k = 0; k < 3; ++k) p.position[k] = ref.offset[k];
+    points.push_back(p);
+  }
   backend::Config config;
   config.section_yaml = section.yaml.c_str();
   config.section_origin = section.origin.c_str();
@@ -52,6 +56,7 @@ Daemon::Daemon(const DaemonOptions& options) {
   config.terrain_map = settings_.terrain_map.c_str();
   config.contact_frames = contacts.data();
   config.num_contacts = static_cast<int>(contacts.size());
+  config.contact_points = points.data();
   std::vector<backend::JointModel> joints(static_cast<std::size_t>(model_->nj()));
   for (int j = 0; j < model_->nj(); ++j) {
     joints[j].name = model_->jointName[j + 1].c_str();
@@ -63,9 +68,26 @@ Daemon::Daemon(const DaemonOptions& options) {
   config.lockstep = options.lockstep;
   config.seed = settings_.backend.seed;
   backend::Error error;
-  if (!backend_->configure(config, error))
-    throw StartupError("backend " + settings_.backend.name + " refused its configuration:\n" +
-                       prof.locateBackendProblem(error.message));
+  auto refused = [&](const char* what) {
+    return StartupError("backend " + settings_.backend.name + " " + what + ":\n" +
+                        prof.locateBackendProblem(error.message));
+  };
+  if (options.check_only) {
+    // The plugin checks its section and the robot against it without building or opening
+    // anything; a plugin without the entry point is said to be unchecked.
+    if (!plugin_->entry().check) {
+      backend_note_ = "its plugin " + plugin_->path() +
+                      " cannot check its section without starting (no BackendEntry::check)";
+      return;
+    }
+    if (!plugin_->entry().check(config, error)) throw refused("refused its configuration");
+    backend_checked_ = true;
+    return;
+  }
+  backend_ = plugin_->create();
+  if (!backend_) throw StartupError("backend " + plugin_->path() + ": create() returned nothing");
+  if (!backend_->configure(config, error)) throw refused("refused its configuration");
+  backend_note_ = error.message;
   const backend::Capabilities& caps = backend_->capabilities();
   if (options.lockstep && !caps.lockstep)
     throw StartupError("--lockstep: backend " + std::string(caps.name) +

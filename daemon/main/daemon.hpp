@@ -34,7 +34,8 @@ struct DaemonOptions {
   std::string profile;  ///< a path or a profile name; empty: sim-flat
   std::vector<std::string> profile_dirs = profile::defaultProfileDirs();
   bool lockstep = false;
-  /// Stop after the profile, the model, the settings and the terrain map (ballastd --check).
+  /// Stop after the profile, the model, the settings, the terrain map and the backend plugin's
+  /// check of its section (BackendEntry::check), starting nothing (ballastd --check).
   bool check_only = false;
   /// Build the socket server (ballastd); a test that drives the loop itself needs none.
   bool serve = true;
@@ -58,9 +59,14 @@ class Daemon {
   const model::Model& model() const { return *model_; }
   /// What the server reaches into (also the running profile and settings after a switch).
   server::DaemonContext& context() { return context_; }
+  /// The backend's note at configure (what it chose, e.g. the simulation's foot contact), or
+  /// with check_only why its section went unchecked; "" if none.
+  const std::string& backendNote() const { return backend_note_; }
+  /// check_only: the plugin checked its section.
+  bool backendChecked() const { return backend_checked_; }
+  const std::string& pluginPath() const { return plugin_->path(); }
   // The parts below exist unless check_only.
   backend::Backend& backend() { return *backend_; }
-  const std::string& pluginPath() const { return plugin_->path(); }
   control::MpcPlanner& planner() { return *planner_; }
   control::ControlLoop& loop() { return *loop_; }
   control::TelemetryWriter& writer() { return *writer_; }
@@ -80,7 +86,8 @@ class Daemon {
   std::unique_ptr<model::Model> model_;
   std::shared_ptr<backend::Plugin> plugin_;
   backend::BackendPtr backend_;
-  bool backend_started_ = false, loop_ran_ = false;
+  bool backend_started_ = false, loop_ran_ = false, backend_checked_ = false;
+  std::string backend_note_;
   std::unique_ptr<control::MpcPlanner> planner_;
   std::unique_ptr<control::ControlLoop> loop_;
   std::unique_ptr<control::TelemetryWriter> writer_;

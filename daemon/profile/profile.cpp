@@ -477,6 +477,19 @@ std::string Profile::problem(const std::string& key, const std::string& entry,
   return (o.file.empty() ? path_ : o.str()) + ": " + key + "." + entry + ": " + message;
 }
 
+std::string Profile::problemAtElement(const std::string& key, std::size_t index,
+                                      const std::string& message) const {
+  const std::string name = key + "[" + std::to_string(index) + "]";
+  const auto it = leaves_.find(key);
+  if (it == leaves_.end() || it->second.origin.file.empty() || !it->second.node.IsSequence() ||
+      index >= it->second.node.size()) {  // a default: the key's own place
+    const Origin o = origin(key);
+    return (o.file.empty() ? path_ : o.str()) + ": " + name + ": " + message;
+  }
+  const YAML::Node element = it->second.node[index];
+  return originOf(element, it->second.origin.file).str() + ": " + name + ": " + message;
+}
+
 namespace {
 /// Rebuilds a YAML map from dotted sub-paths (those under prefix).
 YAML::Node unflatten(const std::map<std::string, Profile::Setting>& entries,

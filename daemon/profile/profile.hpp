@@ -89,6 +89,9 @@ class Profile {
   std::string problem(const std::string& key, const std::string& message) const;
   std::string problem(const std::string& key, const std::string& entry,
                       const std::string& message) const;
+  /// The same at element `index` of a list key ("key[index]"), at that element's own place.
+  std::string problemAtElement(const std::string& key, std::size_t index,
+                               const std::string& message) const;
 
   struct Setting {
     YAML::Node node;

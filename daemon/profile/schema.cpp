@@ -55,8 +55,8 @@ const Schema<Settings> kTable({
 
   // ---- robot: the model and its standing posture
   path("robot.urdf", "", "robot model (URDF); required").needsRestart().into<&S::urdf>(),
-  strings("robot.contact_frames", kContactFramesDefault.c_str(), "the four contact points (URDF links): left toe, left heel, right toe, right heel").ofLength(model::kNumContacts).needsRestart().into<&S::control, &C::contact_frames>(),
-  text("robot.imu_frame", "imu", "URDF link of the IMU; it must be fixed to the floating base").needsRestart().into<&S::control, &C::imu_frame>(),
+  frames("robot.contact_frames", kContactFramesDefault.c_str(), false, "the four contact points, left toe, left heel, right toe, right heel: each a URDF link, or {link: NAME, offset: [x, y, z]} (m, in that link's frame) for a vendor's URDF that has no such links; the simulation's foot contact is on them too").ofLength(model::kNumContacts).needsRestart().into<&S::contact_points>(),
+  frame("robot.imu_frame", "imu", true, "the IMU: a URDF link, or {link: NAME, offset: [x, y, z], rpy: [r, p, y]} (m and rad, in that link's frame); it must be fixed to the floating base").needsRestart().into<&S::imu>(),
   groupMap("robot.joint_groups", "{}", "joint groups, name: [URDF joints]; every actuated joint belongs to exactly one").needsRestart().into<&S::joints, &J::groups>(),
   numberMap("robot.armature", "{}", 0, 10, "kg·m²", "reflected rotor inertia (rotor inertia times the gear ratio squared) per joint group or joint (a joint's entry wins over its group's), in the controller's model and the simulation; joints not listed: 0").needsRestart().into<&S::joints, &J::armature>(),
   numberMap("robot.nominal_posture", "{}", -2 * kPi, 2 * kPi, "rad", "standing posture, joint: angle; joints not listed stand at 0").into<&S::joints, &J::posture>(),
@@ -245,6 +245,8 @@ const Schema<Settings> kTable({
   number("server.reply_timeout", "2", 0.1, 60, "s", "wall time a request waits for the control loop before a timeout error").into<&S::server, &SV::reply_timeout>(),
 
   // ---- fields derived from a key: problems about them are reported at it
+  alias<&S::control, &C::contact_frames>("robot.contact_frames"),
+  alias<&S::control, &C::imu_frame>("robot.imu_frame"),
   alias<&S::control, &C::estimator, &E::imuFrame>("robot.imu_frame"),
   alias<&S::control, &C::estimator, &E::contactFrames>("robot.contact_frames"),
   alias<&S::control, &C::estimator, &E::period>("control.rate"),
@@ -333,6 +335,39 @@ cannot change on a running daemon: a profile switch that changes one is refused.
 .B backend.<name>
 (section; restart)
 the backend's own keys; see the backend's documentation
+.SH BRINGING UP A NEW ROBOT
+A vendor's URDF is used as it comes; the profile says what it lacks. Extend a shipped profile,
+set
+.B robot.urdf
+and list every movable joint in
+.BR robot.joint_groups ,
+with gains per group. The contact points (toe and heel of each foot), the IMU and the
+simulation's lidar need no links of their own: each takes a link and a place on it,
+.IP
+.nf
+robot:
+  contact_frames:
+    \- {link: left_ankle_roll_link, offset: [0.12, 0, \-0.04]}
+    \- {link: left_ankle_roll_link, offset: [\-0.05, 0, \-0.04]}
+    \- {link: right_ankle_roll_link, offset: [0.12, 0, \-0.04]}
+    \- {link: right_ankle_roll_link, offset: [\-0.05, 0, \-0.04]}
+  imu_frame: {link: pelvis, offset: [0, 0, 0.05], rpy: [0, 0, 0]}
+.fi
+.PP
+(metres and radians in that link's frame; a contact point has no
+.BR rpy ).
+In the controller's model such a frame is named after its role and link, e.g.
+.BR left_toe@left_ankle_roll_link ,
+the name status and telemetry show. A foot whose URDF has no collision box (meshes, or spheres
+of millimetres) touches the simulated ground at these points; ballastd says at start which
+contact the simulation built. Then
+.IP
+.B ballastd \-\-check \-\-profile
+.I my\-robot.yaml
+.PP
+checks everything a start checks, the backend's own section included (through its plugin,
+starting nothing): a name the URDF lacks is reported at its place in the profile with the
+closest link names.
 .SH FILES
 .TP
 .I profiles/sim\-flat.yaml

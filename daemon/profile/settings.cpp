@@ -5,7 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "common/format.hpp"  // plugins/common
+#include "common/closest_name.hpp"  // plugins/common
+#include "common/format.hpp"
 #include "control/stand_posture.hpp"
 #include "model/urdf_loader.hpp"
 #include "profile/schema.hpp"
@@ -28,6 +29,10 @@ class Problems {
   /// A library's validateSettings() answer (nothing if it found nothing).
   void add(const model::SettingsProblem& problem) {
     if (problem) add(problem.field, problem.message);
+  }
+  /// At element `index` of the list that fills `field`.
+  void atElement(const void* field, std::size_t index, const std::string& message) {
+    list_.push_back(p_.problemAtElement(key(field), index, message));
   }
   void atKey(const char* key, const std::string& message) {
     list_.push_back(p_.problem(key, message));
@@ -57,6 +62,9 @@ const char* controlKeyOf(const control::ControlSettings& c, const void* field) {
 void derive(Settings& s) {
   control::ControlSettings& c = s.control;
   c.key_of = &controlKeyOf;
+  for (int i = 0; i < model::kNumContacts; ++i)
+    c.contact_frames[i] = s.contact_points[i].frameName(model::kContactFrameNames[i]);
+  c.imu_frame = s.imu.frameName("imu");
   c.estimator.imuFrame = c.imu_frame;
   c.estimator.contactFrames = c.contact_frames;
   c.estimator.period = 1.0 / c.rate;
@@ -118,6 +126,43 @@ Settings defaultSettings() {
   return s;
 }
 
+namespace {
+
+/// "no link 'x' in robot.urdf; closest: a, b, c": what a profile's frame names that the URDF lacks.
+std::string missingLink(const std::string& link, const model::Model& model) {
+  return "no link named '" + link + "' in " + model.sourceFile + "; closest: " +
+         closestNamesText(link, model.frames, [](const model::Frame& f) { return f.name; });
+}
+
+/// The frames the profile places on links ({link, offset, rpy}) added to the model, so the
+/// controller's libraries find them by name like the URDF's own links.
+void addProfileFrames(const Profile& profile, const Settings& s, model::Model& model,
+                      std::vector<std::string>& problems) {
+  auto add = [&](const schema::FrameRef& ref, const std::string& name, const std::string& where) {
+    if (!ref.placed() || model.findFrame(name) >= 0) return;
+    const int link = model.findFrame(ref.link);
+    if (link < 0) {
+      problems.push_back(where + missingLink(ref.link, model));
+      return;
+    }
+    const Eigen::Matrix3d R = (Eigen::AngleAxisd(ref.rpy[2], Eigen::Vector3d::UnitZ()) *
+                               Eigen::AngleAxisd(ref.rpy[1], Eigen::Vector3d::UnitY()) *
+                               Eigen::AngleAxisd(ref.rpy[0], Eigen::Vector3d::UnitX()))
+                                  .toRotationMatrix();
+    const model::SE3<double> inLink{R, Eigen::Vector3d(ref.offset[0], ref.offset[1], ref.offset[2])};
+    const model::Frame& parent = model.frames[link];
+    model.frames.push_back(model::Frame{name, parent.body, parent.placement * inLink});
+  };
+  const char* contacts = keyOf(s, &s.contact_points);
+  for (int i = 0; i < model::kNumContacts; ++i) {
+    const std::string where = profile.problemAtElement(contacts, i, "");
+    add(s.contact_points[i], s.control.contact_frames[i], where);
+  }
+  add(s.imu, s.control.imu_frame, profile.problem(keyOf(s, &s.imu), ""));
+}
+
+}  // namespace
+
 model::Model loadModel(const Profile& profile) {
   const Settings s = readSettings(profile);
   model::Model model;
@@ -126,6 +171,9 @@ model::Model loadModel(const Profile& profile) {
   } catch (const model::ModelError& e) {
     throw ProfileError({profile.problem(keyOf(s, &s.urdf), e.what())});
   }
+  std::vector<std::string> frameProblems;
+  addProfileFrames(profile, s, model, frameProblems);
+  if (!frameProblems.empty()) throw ProfileError(frameProblems);
   // Armature: groups first, then joints named on their own (they win).
   Problems problems(profile, s);
   for (const bool byGroup : {true, false})
@@ -156,12 +204,12 @@ Settings settingsFor(const Profile& p, const model::Model& model) {
   const int nj = model.nj();
   c.num_joints = nj;
 
-  // The robot's frames.
-  for (const std::string& frame : c.contact_frames)
-    if (model.findFrame(frame) < 0)
-      problems.add(&c.contact_frames, "no link named '" + frame + "' in " + model.sourceFile);
+  // The robot's frames (those placed on a link are in the model if it came from loadModel).
+  for (int i = 0; i < model::kNumContacts; ++i)
+    if (model.findFrame(c.contact_frames[i]) < 0)
+      problems.atElement(&s.contact_points, i, missingLink(s.contact_points[i].link, model));
   if (const int f = model.findFrame(c.imu_frame); f < 0)
-    problems.add(&c.imu_frame, "no link named '" + c.imu_frame + "' in " + model.sourceFile);
+    problems.add(&s.imu, missingLink(s.imu.link, model));
   else if (model.frames[f].body != 0)
     problems.add(&c.imu_frame, "'" + c.imu_frame + "' is not fixed to the floating base");
 

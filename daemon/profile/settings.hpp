@@ -7,12 +7,14 @@
 // "file:line:column: key: what is wrong".
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "common/settings_schema.hpp"  // plugins/common
 #include "control/settings.hpp"
+#include "model/contact_points.hpp"
 #include "model/model.hpp"
 #include "profile/profile.hpp"
 #include "server/server_config.hpp"
@@ -40,6 +42,10 @@ struct JointSettings {
 struct Settings {
   std::string extends, description;
   std::string urdf;
+  /// The profile's frames; the model's frames made from them are control.contact_frames and
+  /// control.imu_frame (robotFrames()).
+  std::array<schema::FrameRef, model::kNumContacts> contact_points;
+  schema::FrameRef imu;
   JointSettings joints;
   double planner_horizon;  ///< s; the planner's nodes are horizon / dt
   BackendSettings backend;

@@ -27,6 +27,8 @@ const char* typeName(Type type) {
     case Type::kNumberMap: return "map of numbers";
     case Type::kGroupMap: return "map of lists of names";
     case Type::kCustom: return "map";
+    case Type::kFrame: return "frame";
+    case Type::kFrames: return "list of frames";
   }
   return "?";
 }
@@ -57,11 +59,20 @@ std::string Key::shortType() const {
     case Type::kIntegers: return "integers";
     case Type::kStrings: return "strings";
     case Type::kPaths: return "paths";
+    case Type::kFrames: return "frames";
     case Type::kNumberMap:
     case Type::kGroupMap:
     case Type::kCustom: return "map";
     default: return typeName(type);
   }
+}
+
+bool FrameRef::placed() const {
+  return offset != std::array<double, 3>{} || rpy != std::array<double, 3>{};
+}
+
+std::string FrameRef::frameName(const std::string& role) const {
+  return placed() ? role + "@" + link : link;
 }
 
 std::string describe(const YAML::Node& node) {
@@ -148,6 +159,48 @@ const char* elementWord(Type t) {
     case Type::kPaths: return "paths";
     default: return "strings";
   }
+}
+
+/// One frame: a link name, or a map {link, offset[, rpy]} (rpy only if the key says "rpy").
+bool readFrame(const Key& k, const YAML::Node& node, const std::string& name, FrameRef& out,
+               Problem& p) {
+  const bool oriented = std::string(k.unit) == "rpy";
+  const std::string expected = std::string("expected a URDF link name or {link: NAME, offset: [x, y, z]") +
+                               (oriented ? ", rpy: [r, p, y]}" : "}");
+  out = FrameRef{};
+  if (node.IsScalar()) {
+    if (node.Scalar().empty()) return fail(p, node.Mark(), name, expected + ", got ''");
+    out.link = node.Scalar();
+    return true;
+  }
+  if (!node.IsMap()) return fail(p, node.Mark(), name, expected + ", got " + describe(node));
+  bool hasLink = false;
+  for (const auto& e : node) {
+    const std::string field = e.first.IsScalar() ? e.first.Scalar() : "";
+    const std::string at = name + "." + field;
+    if (field == "link") {
+      if (!e.second.IsScalar() || e.second.Scalar().empty())
+        return fail(p, e.second.Mark(), at, "expected a URDF link name, got " + describe(e.second));
+      out.link = e.second.Scalar();
+      hasLink = true;
+    } else if (field == "offset" || (field == "rpy" && oriented)) {
+      std::array<double, 3>& v = field == "offset" ? out.offset : out.rpy;
+      if (!e.second.IsSequence() || e.second.size() != 3)
+        return fail(p, e.second.Mark(), at, "expected a list of 3 numbers, got " + describe(e.second));
+      Key element{};
+      element.type = Type::kNumber;
+      element.unit = field == "rpy" ? "rad" : "m";
+      for (std::size_t i = 0; i < 3; ++i)
+        if (!readNumber(element, e.second[i], false, at + "[" + std::to_string(i) + "]", v[i], p))
+          return false;
+    } else {
+      return fail(p, e.first.Mark(), at,
+                  std::string("unknown field: a frame has link, offset") + (oriented ? ", rpy" : "") +
+                      (field == "rpy" ? " (a contact point is a point: no rpy)" : ""));
+    }
+  }
+  if (!hasLink) return fail(p, node.Mark(), name, "a frame needs its link: {link: NAME, offset: [x, y, z]}");
+  return true;
 }
 
 }  // namespace
@@ -257,6 +310,20 @@ bool read(const Key& k, const YAML::Node& node, Value& out, Problem& p) {
         seen.emplace(entry, e.first.Mark());
         if (!readEntry(k, entry, e.second, out, p)) return false;
       }
+      return true;
+    }
+    case Type::kFrame:
+      out.frames.assign(1, FrameRef{});
+      return readFrame(k, node, name, out.frames[0], p);
+    case Type::kFrames: {
+      if (!node.IsSequence())
+        return fail(p, node.Mark(), name, "expected a list of frames, got " + describe(node));
+      if (k.length && static_cast<int>(node.size()) != k.length)
+        return fail(p, node.Mark(), name,
+                    "expected a list of " + std::to_string(k.length) + " frames, got " + describe(node));
+      out.frames.assign(node.size(), FrameRef{});
+      for (std::size_t i = 0; i < node.size(); ++i)
+        if (!readFrame(k, node[i], name + "[" + std::to_string(i) + "]", out.frames[i], p)) return false;
       return true;
     }
     case Type::kCustom:

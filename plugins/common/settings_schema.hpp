@@ -27,6 +27,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <array>
 #include <cstddef>
 #include <functional>
 #include <limits>
@@ -54,6 +55,8 @@ enum class Type : unsigned char {
   kNumberMap,  ///< name -> number (joint -> angle, joint group -> gain)
   kGroupMap,   ///< name -> list of names (joint groups)
   kCustom,     ///< read by the row's own function (a plugin's per-motor entries)
+  kFrame,      ///< a URDF link, or {link: NAME, offset: [x, y, z], rpy: [r, p, y]} (FrameRef)
+  kFrames,     ///< a list of kFrame
 };
 
 /// "number", "list of numbers", ...: for messages and the man page.
@@ -67,7 +70,7 @@ struct Key {
   Type type = Type::kNumber;
   const char* defaultYaml = "";  ///< the default, as YAML text
   double min = -kUnbounded, max = kUnbounded;  ///< of every number in the value
-  const char* unit = "";   ///< numbers: the unit; choices: "a|b|c"
+  const char* unit = "";   ///< numbers: the unit; choices: "a|b|c"; frames: "rpy" if oriented
   const char* doc = "";    ///< one line
   const char* group = "";  ///< documentation heading; "": the key's section
   int length = 0;          ///< lists: exact number of elements (0: any)
@@ -81,6 +84,24 @@ struct Key {
   std::string bounds() const;
   /// One word for references: "number", "vec3", "strings", "map", ...
   std::string shortType() const;
+};
+
+/// A frame on the robot given by a URDF link, or by a link and a pose in it: the profile's way to
+/// name a contact point, an IMU or a lidar without editing a vendor's URDF.
+struct FrameRef {
+  std::string link;
+  std::array<double, 3> offset{};  ///< m, the frame's origin in the link's frame
+  std::array<double, 3> rpy{};     ///< rad, its orientation: fixed-axis roll, pitch, yaw (URDF's)
+
+  /// Offset or rotation given: the frame is not the link's own.
+  bool placed() const;
+  /// The frame's name in the controller's model: the link's, or "<role>@<link>" for a placed
+  /// frame (role: left_toe, imu, ...), which no URDF link is named.
+  std::string frameName(const std::string& role) const;
+  bool operator==(const FrameRef& o) const {
+    return link == o.link && offset == o.offset && rpy == o.rpy;
+  }
+  bool operator!=(const FrameRef& o) const { return !(*this == o); }
 };
 
 using NamedNumbers = std::map<std::string, double>;
@@ -98,6 +119,7 @@ struct Value {
   std::vector<std::string> strings;
   NamedNumbers numberMap;
   NamedLists groupMap;
+  std::vector<FrameRef> frames;  ///< kFrame: one
 };
 
 /// What is wrong with a value and where: the node at fault (an element, an entry) and its key
@@ -261,6 +283,10 @@ constexpr bool fits() {
            (!IsVector<F>::value && Indexable<F, std::string>::value);
   if constexpr (T == Type::kNumberMap) return std::is_same_v<F, NamedNumbers>;
   if constexpr (T == Type::kGroupMap) return std::is_same_v<F, NamedLists>;
+  if constexpr (T == Type::kFrame) return std::is_same_v<F, FrameRef>;
+  if constexpr (T == Type::kFrames)
+    return std::is_same_v<F, std::vector<FrameRef>> ||
+           (!IsVector<F>::value && Indexable<F, FrameRef>::value);
   return false;
 }
 
@@ -300,6 +326,15 @@ void assign(F& f, const Value& v) {
     f = v.numberMap;
   } else if constexpr (T == Type::kGroupMap) {
     f = v.groupMap;
+  } else if constexpr (T == Type::kFrame) {
+    f = v.frames.empty() ? FrameRef{} : v.frames[0];
+  } else if constexpr (T == Type::kFrames) {
+    if constexpr (IsVector<F>::value) {
+      f = v.frames;
+    } else {
+      for (std::size_t i = 0; i < static_cast<std::size_t>(f.size()); ++i)
+        f[i] = i < v.frames.size() ? v.frames[i] : FrameRef{};
+    }
   }
 }
 
@@ -399,6 +434,14 @@ inline Decl<Type::kNumberMap> numberMap(const char* n, const char* def, double l
 }
 inline Decl<Type::kGroupMap> groupMap(const char* n, const char* def, const char* doc) {
   return {{n, Type::kGroupMap, def, -kUnbounded, kUnbounded, "", doc}};
+}
+/// A frame: a link name or {link, offset} (and rpy when `rotation`: an IMU, a lidar; a contact
+/// point is a point).
+inline Decl<Type::kFrame> frame(const char* n, const char* def, bool rotation, const char* doc) {
+  return {{n, Type::kFrame, def, -kUnbounded, kUnbounded, rotation ? "rpy" : "", doc}};
+}
+inline Decl<Type::kFrames> frames(const char* n, const char* def, bool rotation, const char* doc) {
+  return {{n, Type::kFrames, def, -kUnbounded, kUnbounded, rotation ? "rpy" : "", doc}};
 }
 inline Decl<Type::kCustom> custom(const char* n, const char* def, const char* doc) {
   return {{n, Type::kCustom, def, -kUnbounded, kUnbounded, "", doc}};

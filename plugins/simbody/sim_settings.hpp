@@ -53,7 +53,7 @@
 //   encoder_resolution            number  0              [0, 0.1]       joint position quantisation (rad); 0: exact
 //   joint_velocity_noise          number  0              [0, 10]        white noise σ (rad/s) on joint velocities
 //   torque_noise                  number  0              [0, 100]       white noise σ (N·m) on measured joint torques
-//   imu.frame                     string  imu                           URDF link of the IMU
+//   imu.frame                     frame   imu                           the IMU: a URDF link, or {link: NAME, offset: [x, y, z], rpy: [r, p, y]} in that link's frame
 //   imu.gyro_noise_density        number  2.4e-4         [0, 1]         gyro white noise (rad/s/√Hz); σ per sample = density / √period
 //   imu.gyro_bias                 number  0              [0, 1]         σ (rad/s) of the per-axis gyro bias, drawn once at start
 //   imu.accel_noise_density       number  1.5e-3         [0, 10]        accelerometer white noise (m/s²/√Hz)
@@ -62,7 +62,7 @@
 //
 //   Lidar
 //   lidar.enabled                 bool    true                          simulate the lidar (Capabilities::lidar)
-//   lidar.frame                   string  lidar                         URDF link of the sensor; rays in its x-forward, z-up frame
+//   lidar.frame                   frame   lidar                         the sensor: a URDF link, or {link: NAME, offset: [x, y, z], rpy: [r, p, y]} in that link's frame; rays in its x-forward, z-up frame
 //   lidar.rate                    number  10             [0.1, 100]     scans per second (Hz)
 //   lidar.horizontal_rays         integer 180            [1, 4096]      rays per scan line
 //   lidar.vertical_rays           integer 16             [1, 256]       scan lines
@@ -129,12 +129,12 @@ struct SimSettings : schema::Locations {
   double joint_limit_stiffness, joint_limit_damping;
 
   double encoder_resolution, joint_velocity_noise, torque_noise;
-  std::string imu_frame;
+  schema::FrameRef imu_frame;
   double imu_gyro_noise_density, imu_gyro_bias, imu_accel_noise_density, imu_accel_bias;
   double imu_orientation_noise;
 
   bool lidar_enabled;
-  std::string lidar_frame;
+  schema::FrameRef lidar_frame;
   double lidar_rate;
   int lidar_horizontal_rays, lidar_vertical_rays;
   double lidar_horizontal_fov, lidar_vertical_min, lidar_vertical_max;

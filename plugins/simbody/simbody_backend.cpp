@@ -49,7 +49,16 @@ bool SimbodyBackend::configure(const backend::Config& config, backend::Error& er
     for (int i = 0; i < config.num_contacts; ++i) {
       if (!config.contact_frames || !config.contact_frames[i])
         throw std::runtime_error("Config::contact_frames[" + std::to_string(i) + "] is missing");
-      options.contactFrames.emplace_back(config.contact_frames[i]);
+      ContactSpec c;
+      c.name = c.link = config.contact_frames[i];
+      if (config.contact_points) {
+        const backend::ContactPoint& p = config.contact_points[i];
+        if (!p.link || !*p.link)
+          throw std::runtime_error("Config::contact_points[" + std::to_string(i) + "] has no link");
+        c.link = p.link;
+        c.position = SimTK::Vec3(p.position[0], p.position[1], p.position[2]);
+      }
+      options.contacts.push_back(c);
     }
     options.settings = settings_;
     for (int i = 0; i < config.num_joint_models; ++i)
@@ -93,7 +102,7 @@ bool SimbodyBackend::configure(const backend::Config& config, backend::Error& er
     copyMessage(error, "simbody: configure failed with an unknown exception");
     return false;
   }
-  copyMessage(error, "");
+  copyMessage(error, ("foot contact: " + world_->footContactSummary()).c_str());
   return true;
 }
 

@@ -1,5 +1,7 @@
 #include "simbody_world.hpp"
 
+#include "closest_name.hpp"  // plugins/common
+
 #include <algorithm>
 #include <cmath>
 #include <set>
@@ -34,24 +36,24 @@ double halfExtentAlong(const UrdfMultibody::CollisionShape& shape, const SimTK::
 }  // namespace
 
 SimbodyWorld::SimbodyWorld(const WorldOptions& options)
-    : contactFrames_(options.contactFrames), urdfPath_(options.urdfPath) {
+    : contacts_(options.contacts), urdfPath_(options.urdfPath) {
   const SimSettings& s = options.settings;
   mb_ = buildUrdfMultibody(options.urdfPath, options.armature);
   if (numJoints() > backend::kMaxJoints)
     throw std::runtime_error(urdfPath_ + ": " + std::to_string(numJoints()) +
                              " movable joints, the backend ABI carries at most " +
                              std::to_string(backend::kMaxJoints));
-  if (contactFrames_.empty())
+  if (contacts_.empty())
     throw std::runtime_error("no contact frames given (Config::contact_frames): the simulation "
                              "puts the foot contact spheres on them");
   if (numContacts() > backend::kMaxContacts)
     throw std::runtime_error(std::to_string(numContacts()) +
                              " contact frames, the backend ABI carries at most " +
                              std::to_string(backend::kMaxContacts));
-  for (std::size_t i = 0; i < contactFrames_.size(); ++i)
-    if (!mb_->linkFrame.count(contactFrames_[i]))
-      throw std::runtime_error(urdfPath_ + ": no link '" + contactFrames_[i] +
-                               "' (contact frame " + std::to_string(i) + ")");
+  for (std::size_t i = 0; i < contacts_.size(); ++i)
+    if (!mb_->linkFrame.count(contacts_[i].link))
+      throw std::runtime_error(urdfPath_ + ": no link '" + contacts_[i].link + "' (contact frame " +
+                               std::to_string(i) + "); closest: " + closestLinks(contacts_[i].link));
 
   try {
     terrain_ = options.terrainMap.empty()
@@ -85,8 +87,8 @@ SimbodyWorld::SimbodyWorld(const WorldOptions& options)
   buildProbes(s);
   SimTK::Force::Custom(mb_->forces, new RobotForces(forces_));
 
-  imuFrame_ = link(s.imu_frame, "imu.frame", s);
-  lidarFrame_ = s.lidar_enabled ? link(s.lidar_frame, "lidar.frame", s) : imuFrame_;
+  imuFrame_ = frame(s.imu_frame, "imu.frame", s);
+  lidarFrame_ = s.lidar_enabled ? frame(s.lidar_frame, "lidar.frame", s) : imuFrame_;
 
   {
     SimTK::State st = mb_->system.realizeTopology();
@@ -121,33 +123,67 @@ const UrdfMultibody::LinkFrame& SimbodyWorld::link(const std::string& name, cons
                                                    const SimSettings& s) const {
   const auto it = mb_->linkFrame.find(name);
   if (it == mb_->linkFrame.end())
-    throw std::runtime_error(s.where(key) + urdfPath_ + " has no link '" + name + "'");
+    throw std::runtime_error(s.where(key) + urdfPath_ + " has no link '" + name + "'; closest: " +
+                             closestLinks(name));
   return it->second;
+}
+
+UrdfMultibody::LinkFrame SimbodyWorld::frame(const schema::FrameRef& ref, const std::string& key,
+                                             const SimSettings& s) const {
+  UrdfMultibody::LinkFrame f = link(ref.link, key, s);
+  // URDF's rpy: fixed axes x, y, z, i.e. R = Rz(yaw) Ry(pitch) Rx(roll).
+  const SimTK::Rotation R(SimTK::BodyRotationSequence, ref.rpy[2], SimTK::ZAxis, ref.rpy[1],
+                          SimTK::YAxis, ref.rpy[0], SimTK::XAxis);
+  f.inBody = f.inBody * SimTK::Transform(R, SimTK::Vec3(ref.offset[0], ref.offset[1], ref.offset[2]));
+  return f;
+}
+
+std::string SimbodyWorld::closestLinks(const std::string& name) const {
+  return closestNamesText(name, mb_->linkFrame, [](const auto& entry) { return entry.first; });
 }
 
 void SimbodyWorld::buildProbes(const SimSettings& s) {
   const double r = s.foot_sphere_radius;
   std::set<SimTK::MobilizedBodyIndex> footBodies;
+  std::set<std::string> widthFrom;  // the collision shapes that set the feet's width
+  int spheres = 0;
   for (int i = 0; i < numContacts(); ++i) {
-    const std::string& name = contactFrames_[i];
-    const UrdfMultibody::LinkFrame& frame = mb_->linkFrame.at(name);
+    const std::string& name = contacts_[i].link;
+    UrdfMultibody::LinkFrame frame = mb_->linkFrame.at(name);
+    frame.inBody = frame.inBody * SimTK::Transform(contacts_[i].position);
     footBodies.insert(frame.body);
     const SimTK::Vec3 across = frame.inBody.R().y(), up = frame.inBody.R().z();
     double width = s.foot_width;
     if (width == 0.0) {
       const std::string& parent = mb_->parentLink[name];
       for (const auto& shape : mb_->collisionShapes)
-        if (shape.body == frame.body && (shape.link == name || shape.link == parent))
+        if (shape.body == frame.body && (shape.link == name || shape.link == parent) &&
+            shape.kind != UrdfMultibody::CollisionShape::Kind::kSphere) {
+          // A box is a sole; a sphere (a vendor's point foot of millimetres) gives no width.
           width = std::max(width, 2.0 * halfExtentAlong(shape, across));
+          widthFrom.insert(shape.link);
+        }
     }
     const SimTK::Vec3 centre = frame.inBody.p() + r * up;
     if (width > 2.0 * r) {
       const double offset = width / 2.0 - r;
       forces_.probes.push_back({frame.body, centre - offset * across, r, i});
       forces_.probes.push_back({frame.body, centre + offset * across, r, i});
+      spheres += 2;
     } else {
       forces_.probes.push_back({frame.body, centre, r, i});
+      spheres += 1;
     }
+  }
+  {
+    std::string from;
+    for (const std::string& l : widthFrom) from += (from.empty() ? "" : ", ") + l;
+    footSummary_ = std::to_string(spheres) + " spheres of " + std::to_string(r * 1000.0).substr(0, 4) +
+                   " mm on the " + std::to_string(numContacts()) + " contact points (" +
+                   (s.foot_width > 0.0   ? "spaced by foot_width"
+                    : !from.empty()      ? "spaced by the collision boxes of " + from
+                                         : "one each: the feet have no collision box") +
+                   ")";
   }
   if (s.body_contact) {
     for (const auto& shape : mb_->collisionShapes) {

@@ -4,10 +4,13 @@
 // It knows nothing of ticks or latency (SimbodyBackend does): it applies the motor commands it
 // is given from now on, integrates to a given time, and reports true values.
 //
-// Contact geometry: each contact point (Config::contact_frames, a link on a sole) carries two
-// spheres of foot_sphere_radius side by side across the foot (their bottoms on the sole, the
-// pair foot_width wide), so a foot has a 2-D support area whose front spheres are the toe
-// point's and back ones the heel's. With body_contact, every other body's collision shapes carry
+// Contact geometry: each contact point (Config::contact_points: a link on a sole, or a point the
+// profile places on the foot's link) carries two spheres of foot_sphere_radius side by side
+// across the foot (their bottoms on the sole, the pair foot_width wide, or as wide as the foot's
+// collision box), so a foot has a 2-D support area whose front spheres are the toe point's and
+// back ones the heel's. A foot without a collision box (a vendor's foot of meshes, or of spheres
+// of millimetres) gets one sphere per point: the profile's points are its sole. The start-up log
+// says which (footContactSummary). With body_contact, every other body's collision shapes carry
 // spheres on a ≤ 10 cm lattice over their surface: a knee, hand or torso touching the terrain is
 // felt and reported (Truth::non_foot_contact).
 //
@@ -31,9 +34,15 @@
 
 namespace ballast::simbody {
 
+/// A contact point: its name (Config::contact_frames), the URDF link it is on and where on it.
+struct ContactSpec {
+  std::string name, link;
+  SimTK::Vec3 position{0};  ///< m, in the link's frame
+};
+
 struct WorldOptions {
   std::string urdfPath;
-  std::vector<std::string> contactFrames;  ///< URDF links, Config::contact_frames order
+  std::vector<ContactSpec> contacts;  ///< Config::contact_frames order
   SimSettings settings;
   std::string terrainMap;  ///< resolved path of the map to simulate; "" = flat floor
   std::string terrainMapWhere;  ///< prefix for map errors ("file:line:col: terrain_map: ")
@@ -62,7 +71,10 @@ class SimbodyWorld {
   // --- model ---
   int numJoints() const { return static_cast<int>(mb_->jointNames.size()); }
   const std::vector<std::string>& jointNames() const { return mb_->jointNames; }
-  int numContacts() const { return static_cast<int>(contactFrames_.size()); }
+  int numContacts() const { return static_cast<int>(contacts_.size()); }
+  /// How the feet touch the ground, for the start-up log: spheres per contact point and where
+  /// their spacing came from (the feet's collision boxes, foot_width, or none: one sphere).
+  const std::string& footContactSummary() const { return footSummary_; }
   const Terrain& terrain() const { return terrain_; }
   const ForceModel& forces() const { return forces_; }
   UrdfMultibody& multibody() { return *mb_; }
@@ -111,9 +123,15 @@ class SimbodyWorld {
   void recordImuVelocity(bool restart);
   const UrdfMultibody::LinkFrame& link(const std::string& name, const std::string& key,
                                        const SimSettings& s) const;
+  /// A profile frame (a link, or a pose on one) on its Simbody body.
+  UrdfMultibody::LinkFrame frame(const schema::FrameRef& ref, const std::string& key,
+                                 const SimSettings& s) const;
+  /// "a, b, c": the links nearest to a name the URDF lacks.
+  std::string closestLinks(const std::string& name) const;
 
   std::unique_ptr<UrdfMultibody> mb_;
-  std::vector<std::string> contactFrames_;
+  std::vector<ContactSpec> contacts_;
+  std::string footSummary_;
   Terrain terrain_;
   ForceModel forces_;
   SimTK::Vec3 gravity_{0};

@@ -41,6 +41,16 @@ Status SocketcanBackend::fault(const char* message) {
 }
 
 bool SocketcanBackend::configure(const backend::Config& config, backend::Error& error) {
+  return configure(config, error, true);
+}
+
+bool SocketcanBackend::check(const backend::Config& config, backend::Error& error) {
+  SocketcanBackend b;
+  return b.configure(config, error, false);
+}
+
+bool SocketcanBackend::configure(const backend::Config& config, backend::Error& error,
+                                 bool openBuses) {
   try {
     settings_ = parseSocketcanSettings(config.section_yaml ? config.section_yaml : "",
                                        config.section_origin ? config.section_origin : "");
@@ -72,6 +82,10 @@ bool SocketcanBackend::configure(const backend::Config& config, backend::Error& 
       throw SettingsError(settings_.where("motors") + "more motors than the ABI's " +
                           std::to_string(backend::kMaxJoints) + " joints");
 
+    if (!openBuses) {  // a check: the section and the URDF agree; the buses are not touched
+      copyMessage(error, "");
+      return true;
+    }
     buses_.clear();
     buses_.resize(settings_.buses.size());
     bool allEmulated = true;

@@ -48,6 +48,8 @@ class SocketcanBackend final : public backend::Backend {
   ~SocketcanBackend() override { stop(); }
 
   bool configure(const backend::Config& config, backend::Error& error) override;
+  /// What configure() checks but opening the buses (BackendEntry::check: ballastd --check).
+  static bool check(const backend::Config& config, backend::Error& error);
   const backend::Capabilities& capabilities() const override { return caps_; }
   bool start(backend::Error& error) override;
   backend::Status read(backend::Sensors& sensors) override;
@@ -65,6 +67,7 @@ class SocketcanBackend final : public backend::Backend {
   std::uint64_t sendFailures() const { return sendFailures_; }
 
  private:
+  bool configure(const backend::Config& config, backend::Error& error, bool openBuses);
   struct Motor {
     MotorEntry entry;
     double effort = 0.0;                  ///< the joint's torque limit (URDF), N·m

@@ -11,7 +11,7 @@ const ballast::backend::BackendEntry kEntry{
     ballast::backend::kBackendAbiVersion, "socketcan",
     "SocketCAN hardware: MIT-protocol motors on one or more CAN buses and an IMU on the bus; "
     "candump logs; lockstep on emulated buses",
-    &create, &destroy};
+    &create, &destroy, &ballast::socketcan::SocketcanBackend::check};
 
 }  // namespace
 

@@ -57,6 +57,44 @@ TEST(Lifecycle, MissingPluginAndBadUrdfAreNamed) {
   fs::remove_all(dir);
 }
 
+#if HAVE_SIMBODY
+/// sim-flat on the generated humanoid without frame links: the profile places the contact
+/// points, the IMU and the simulation's IMU and lidar on the feet, pelvis and head.
+std::string vendorProfile(const fs::path& dir, const std::string& lidarFrame) {
+  return writeFile(dir / "vendor.yaml", "extends: " + std::string(SIM_PROFILE) + R"(
+robot:
+  urdf: )" + std::string(VENDOR_URDF) + R"(
+  contact_frames:
+    - {link: left_foot, offset: [0.13, 0, -0.06]}
+    - {link: left_foot, offset: [-0.07, 0, -0.06]}
+    - {link: right_foot, offset: [0.13, 0, -0.06]}
+    - {link: right_foot, offset: [-0.07, 0, -0.06]}
+  imu_frame: {link: pelvis, offset: [0, 0, 0.04]}
+backend:
+  simbody:
+    imu: {frame: {link: pelvis, offset: [0, 0, 0.04]}}
+    lidar:
+      frame: )" + lidarFrame + "\n");
+}
+
+// --check validates what a start would, the backend's own section included (through the
+// plugin's check, which starts nothing): a lidar link the URDF lacks is found before a start.
+TEST(Check, ChecksTheBackendsSectionThroughItsPlugin) {
+  const fs::path dir = scratchDir();
+  const std::string good = vendorProfile(dir, "{link: head, offset: [0.08, 0, 0.10]}");
+  const Outcome ok = runProgram({BALLASTD, "--check", "--profile", good});
+  EXPECT_EQ(ok.status, 0) << ok.out << ok.err;
+  EXPECT_NE(ok.out.find("backend simbody: its section checked by the plugin"), std::string::npos)
+      << ok.out;
+  const std::string bad = vendorProfile(dir, "lidar");
+  const Outcome refused = runProgram({BALLASTD, "--check", "--profile", bad});
+  EXPECT_EQ(refused.status, 1) << refused.out;
+  EXPECT_NE(refused.err.find(bad + ":14:7: lidar.frame: "), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find("has no link 'lidar'; closest: "), std::string::npos) << refused.err;
+  fs::remove_all(dir);
+}
+#endif
+
 TEST(Lifecycle, DaemonAndCliMeetOnTheDefaultSocket) {
   // Neither is told where: both take $XDG_RUNTIME_DIR/ballast/ballastd.sock.
   const fs::path dir = scratchDir();

@@ -141,7 +141,8 @@ TEST(SimbodyPlugin, ConfigureErrorsNameTheFileLineAndKey) {
   config.yaml = "imu: {frame: chest}\n";
   EXPECT_FALSE(sim->configure(config.config(), error));
   EXPECT_EQ(std::string(error.message),
-            "profiles/sim.yaml:40:7: imu.frame: " + config.urdf + " has no link 'chest'");
+            "profiles/sim.yaml:40:7: imu.frame: " + config.urdf +
+                " has no link 'chest'; closest: head, torso, imu");
 
   config.yaml = "";
   config.map = "/no/such/map.bt";  // the planner's map, from Config
@@ -180,7 +181,9 @@ TEST(SimbodyPlugin, ContactFramesMustBeLinksOfTheRobot) {
   backend::Error error;
   EXPECT_FALSE(sim->configure(c, error));
   EXPECT_EQ(std::string(error.message),
-            config.urdf + ": no link 'left_elbow_pad' (contact frame 1)");
+            config.urdf +
+                ": no link 'left_elbow_pad' (contact frame 1); closest: left_foot, left_forearm, "
+                "left_hand");
   c.num_contacts = 0;
   EXPECT_FALSE(sim->configure(c, error));
   EXPECT_NE(std::string(error.message).find("no contact frames given"), std::string::npos);

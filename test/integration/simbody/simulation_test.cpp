@@ -155,6 +155,56 @@ TEST(Simulation, JointPdHoldsTheStandingPostureForThreeSeconds) {
   }
 }
 
+// A vendor's URDF: no toe and heel links, the profile places the points on the foot links
+// (Config::contact_points). With sole boxes the feet keep their width; with feet of a 2 mm
+// sphere the points are the sole, one sphere each. Either way the robot stands, and the note
+// configure() leaves for the log says which.
+TEST(Simulation, ContactPointsPlacedOnTheFeetCarryTheRobotWithOrWithoutSoleBoxes) {
+  const backend::ContactPoint points[] = {{"left_foot", {0.13, 0, -0.06}},
+                                          {"left_foot", {-0.07, 0, -0.06}},
+                                          {"right_foot", {0.13, 0, -0.06}},
+                                          {"right_foot", {-0.07, 0, -0.06}}};
+  const char* const names[] = {"left_toe@left_foot", "left_heel@left_foot",
+                               "right_toe@right_foot", "right_heel@right_foot"};
+  const struct {
+    const char* urdf;
+    const char* note;
+  } cases[] = {{"no_frame_links", "8 spheres of 10.0 mm on the 4 contact points (spaced by the "
+                                  "collision boxes of left_foot, right_foot)"},
+               {"point_feet", "4 spheres of 10.0 mm on the 4 contact points (one each: the feet "
+                              "have no collision box)"}};
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.urdf);
+    SimConfig sc;
+    sc.yaml = "integrator: verlet\ninitial_posture: stand\nimu: {frame: {link: pelvis, offset: [0, 0, 0.04]}}\n"
+              "lidar: {frame: {link: head, offset: [0.08, 0, 0.1]}}\n";
+    sc.urdf = std::string(TEST_URDF_DIR) + "/" + c.urdf + ".urdf";
+    backend::Config config = sc.config();
+    config.contact_frames = names;
+    config.contact_points = points;
+    SimbodyBackend backend;
+    backend::Error error;
+    ASSERT_TRUE(backend.configure(config, error)) << error.message;
+    EXPECT_EQ(std::string(error.message), std::string("foot contact: ") + c.note);
+    ASSERT_TRUE(backend.start(error)) << error.message;
+    backend::Sensors sensors;
+    backend::Commands hold;
+    backend.read(sensors);
+    holdPosture(backend.capabilities(), sensors.q, hold);
+    const SimTK::Vec3 p0 = basePosition(sensors);
+    double farthest = 0;
+    for (int k = 0; k < 2000; ++k) {
+      ASSERT_EQ(backend.write(hold), Status::kOk);
+      ASSERT_EQ(backend.advance(), Status::kOk) << backend.lastError().message;
+      ASSERT_EQ(backend.read(sensors), Status::kOk);
+      farthest = std::max(farthest, (basePosition(sensors) - p0).norm());
+    }
+    EXPECT_LT(farthest, 0.03);
+    for (int i = 0; i < 4; ++i) EXPECT_TRUE(sensors.truth.contact[i]) << names[i];
+    EXPECT_FALSE(sensors.truth.non_foot_contact);
+  }
+}
+
 TEST(Simulation, APushOnTheTorsoInTheAirChangesMomentumByItsImpulse) {
   Sim sim("initial_clearance: 50");
   ASSERT_TRUE(sim.ok) << sim.message;

@@ -363,6 +363,43 @@ TEST(SocketcanBackend, EveryFrameGoesToTheCandumpLog) {
   std::filesystem::remove(log);
 }
 
+// ballastd --check: the section against the URDF as configure() would, without opening a bus
+// (a check on a laptop names no missing can0).
+TEST(SocketcanBackend, CheckFindsWhatConfigureWouldWithoutOpeningTheBuses) {
+  const std::string urdf = humanoidUrdf();
+  backend::Config config;
+  config.section_origin = "robot.yaml:10";
+  config.urdf_path = urdf.c_str();
+  backend::Error e;
+  // Three motors a bus keep each under the bus load limit at 1 kHz.
+  std::string section =
+      "buses: [nocan0, nocan1, nocan2, nocan3, nocan4, nocan5, nocan6, nocan7]\nimu: {enabled: false}\n"
+      "ranges: {torque: 100}\nmotors:\n";
+  const char* joints[] = {"left_hip_yaw", "left_hip_roll", "left_hip_pitch", "left_knee",
+                          "left_ankle_pitch", "left_ankle_roll", "right_hip_yaw", "right_hip_roll",
+                          "right_hip_pitch", "right_knee", "right_ankle_pitch", "right_ankle_roll",
+                          "left_shoulder_pitch", "left_shoulder_roll", "left_shoulder_yaw",
+                          "left_elbow", "left_wrist_yaw", "left_wrist_pitch",
+                          "right_shoulder_pitch", "right_shoulder_roll", "right_shoulder_yaw",
+                          "right_elbow", "right_wrist_yaw", "right_wrist_pitch"};
+  int id = 0;
+  for (const char* j : joints) {
+    section += std::string("  ") + j + ": {bus: nocan" + std::to_string(id % 8) +
+               ", id: " + std::to_string(id / 8 + 1) + "}\n";
+    ++id;
+  }
+  config.section_yaml = section.c_str();
+  EXPECT_TRUE(SocketcanBackend::check(config, e)) << e.message;
+  SocketcanBackend can;
+  EXPECT_FALSE(can.configure(config, e));  // no interface nocan0 here
+  const std::string missing = section.substr(0, section.rfind("  right_wrist_pitch"));
+  config.section_yaml = missing.c_str();
+  EXPECT_FALSE(SocketcanBackend::check(config, e));
+  EXPECT_NE(std::string(e.message).find("joint right_wrist_pitch of " + urdf + " has no motor"),
+            std::string::npos)
+      << e.message;
+}
+
 TEST(SocketcanBackend, ARealBusOnThisMachine) {
   // On a kernel with SocketCAN and a vcan0 (`ip link add vcan0 type vcan`), an emulated motor
   // sits on vcan0 beside the backend and answers its enable sequence; elsewhere the error says

@@ -154,7 +154,7 @@ control:
   const auto posture = p.numberMap("robot.nominal_posture");
   EXPECT_DOUBLE_EQ(posture.at("left_knee"), 0.8);                      // from the base: maps merge
   EXPECT_NEAR(posture.at("left_elbow"), -20.0 * M_PI / 180.0, 1e-12);  // deg suffix
-  EXPECT_EQ(p.strings("robot.contact_frames")[0], "left_heel");        // lists replace
+  EXPECT_EQ(p.value("robot.contact_frames")[0].Scalar(), "left_heel");  // lists replace
   EXPECT_EQ(p.numberMap("control.joint_kp").at("legs"), 300.0);
   EXPECT_EQ(p.numberMap("control.joint_kp").at("arms"), 50.0);
   EXPECT_EQ(p.number("control.rate"), 500.0);
@@ -208,6 +208,117 @@ control:
       << p[1];
   EXPECT_EQ(p[2].rfind(path + ":7:14: control.joint_kp.torso: no joint group of that name", 0), 0u)
       << p[2];
+}
+
+// A vendor's URDF has no links at the toes and heels: the profile places the points on the foot's
+// link. On the humanoid they land exactly where its own toe and heel links are.
+TEST_F(ProfileTest, ContactPointsAndImuTakeALinkAndAnOffset) {
+  base();
+  const std::string path = write("p.yaml", R"(extends: base
+robot:
+  contact_frames:
+    - {link: left_foot, offset: [0.13, 0, -0.06]}
+    - {link: left_foot, offset: [-0.07, 0, -0.06]}
+    - right_toe
+    - {link: right_foot, offset: [-0.07, 0, -0.06]}
+  imu_frame: {link: pelvis, offset: [0, 0, 0.04], rpy: [0, 0, 90deg]}
+)");
+  const Profile p = Profile::load(path);
+  const model::Model m = loadModel(p);
+  const Settings s = settingsFor(p, m);
+  EXPECT_EQ(s.control.contact_frames[0], "left_toe@left_foot");
+  EXPECT_EQ(s.control.contact_frames[2], "right_toe");  // a link stays a link
+  EXPECT_EQ(s.control.imu_frame, "imu@pelvis");
+  EXPECT_EQ(s.control.estimator.contactFrames[1], "left_heel@left_foot");
+  const char* own[] = {"left_toe", "left_heel", "right_toe", "right_heel"};
+  for (int i = 0; i < 4; ++i) {
+    const model::Frame& placed = m.frames[m.frameId(s.control.contact_frames[i])];
+    const model::Frame& link = m.frames[m.frameId(own[i])];
+    EXPECT_EQ(placed.body, link.body) << own[i];
+    EXPECT_TRUE(placed.placement.p.isApprox(link.placement.p, 1e-12)) << own[i];
+  }
+  const model::Frame& imu = m.frames[m.frameId("imu@pelvis")];
+  const model::Frame& imuLink = m.frames[m.frameId("imu")];
+  EXPECT_TRUE(imu.placement.p.isApprox(imuLink.placement.p, 1e-12));
+  EXPECT_NEAR(imu.placement.R(1, 0), 1.0, 1e-12);  // x of the IMU along the pelvis' y: yaw 90°
+}
+
+TEST_F(ProfileTest, AMissingLinkNamesItsElementAndTheClosestLinks) {
+  base();
+  const std::string path = write("p.yaml", R"(extends: base
+robot:
+  contact_frames:
+    - left_toe
+    - {link: left_fot, offset: [-0.07, 0, -0.06]}
+    - right_toe
+    - right_heal
+  imu_frame: {link: pelvis_link, offset: [0, 0, 0.04]}
+)");
+  const auto p = problems(path);
+  ASSERT_EQ(p.size(), 2u) << testing::PrintToString(p);
+  EXPECT_EQ(p[0].rfind(path + ":5:7: robot.contact_frames[1]: no link named 'left_fot' in " +
+                           test::humanoidUrdf() + "; closest: left_foot",
+                       0),
+            0u)
+      << p[0];
+  EXPECT_EQ(p[1].rfind(path + ":8:14: robot.imu_frame: no link named 'pelvis_link' in " +
+                           test::humanoidUrdf() + "; closest: pelvis",
+                       0),
+            0u)
+      << p[1];
+  // A link name alone, once the placed frames are found: the same message at its element.
+  const std::string plain = write("q.yaml", R"(extends: base
+robot:
+  contact_frames: [left_toe, left_heel, right_toe, right_heal]
+)");
+  const auto q = problems(plain);
+  ASSERT_EQ(q.size(), 1u) << testing::PrintToString(q);
+  EXPECT_EQ(q[0].rfind(plain + ":3:52: robot.contact_frames[3]: no link named 'right_heal' in " +
+                           test::humanoidUrdf() + "; closest: right_heel",
+                       0),
+            0u)
+      << q[0];
+}
+
+TEST_F(ProfileTest, AFrameIsALinkOrALinkWithAnOffset) {
+  base();
+  const std::string path = write("p.yaml", R"(extends: base
+robot:
+  contact_frames:
+    - {link: left_foot, offset: [0.13, 0], rpy: [0, 0, 0]}
+    - {link: left_foot, rpy: [0, 0, 0]}
+    - {offset: [0, 0, 0]}
+    - [right_heel]
+  imu_frame: {link: pelvis, offset: [0, 0, 0.04], up: 1}
+)");
+  try {
+    Profile::load(path);
+    FAIL() << "loaded";
+  } catch (const ProfileError& e) {
+    ASSERT_EQ(e.problems.size(), 2u) << testing::PrintToString(e.problems);
+    EXPECT_EQ(e.problems[0], path + ":4:33: robot.contact_frames[0].offset: expected a list of 3 "
+                                    "numbers, got a list of 2")
+        << e.problems[0];
+    EXPECT_EQ(e.problems[1].rfind(path + ":8:51: robot.imu_frame.up: unknown field: a frame has "
+                                         "link, offset, rpy",
+                                  0),
+              0u)
+        << e.problems[1];
+  }
+  const std::string rpy = write("q.yaml", R"(extends: base
+robot:
+  contact_frames: [left_toe, {link: left_foot, rpy: [0, 0, 0]}, right_toe, right_heel]
+)");
+  try {
+    Profile::load(rpy);
+    FAIL() << "loaded";
+  } catch (const ProfileError& e) {
+    ASSERT_EQ(e.problems.size(), 1u);
+    EXPECT_NE(e.problems[0].find("robot.contact_frames[1].rpy: unknown field: a frame has link, "
+                                 "offset (a contact point is a point: no rpy)"),
+              std::string::npos)
+        << e.problems[0];
+  }
 }
 
 TEST_F(ProfileTest, EveryJointNeedsAGroupAndEveryGroupGains) {
