@@ -239,8 +239,9 @@ struct BackendEntry {
   Backend* (*create)();
   void (*destroy)(Backend*);
   /// Checks a configuration as configure() would (the section, the URDF against it, files it
-  /// names) without building a world or touching hardware: `ballastd --check`. True if a
-  /// configure() would accept it; otherwise false with the message configure() would give.
+  /// names) without starting anything or touching hardware (a simulation may build its world
+  /// and drop it): `ballastd --check`. True if a configure() would accept it; otherwise false
+  /// with the message configure() would give.
   /// Null: the plugin cannot check without configuring (ballastd says so).
   bool (*check)(const Config& config, Error& error);
 };
