@@ -62,8 +62,15 @@ Daemon::Daemon(const DaemonOptions& options) {
     joints[j].name = model_->jointName[j + 1].c_str();
     joints[j].armature = model_->armature[j];
   }
+  for (const auto& [name, position] : settings_.joints.locked) {  // fixed in the model
+    backend::JointModel locked;
+    locked.name = name.c_str();
+    locked.locked = true;
+    locked.locked_position = position;
+    joints.push_back(locked);
+  }
   config.joints = joints.data();
-  config.num_joint_models = model_->nj();
+  config.num_joint_models = static_cast<int>(joints.size());
   config.period = 1.0 / settings_.control.rate;
   config.lockstep = options.lockstep;
   config.seed = settings_.backend.seed;

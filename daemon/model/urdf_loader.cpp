@@ -136,7 +136,25 @@ Inertia<double> linkInertia(const urdf::Link& link, const SourceIndex& src) {
 
 class TreeBuilder {
  public:
-  TreeBuilder(const urdf::ModelInterface& urdf, const SourceIndex& src) : urdf_(urdf), src_(src) {}
+  TreeBuilder(const urdf::ModelInterface& urdf, const SourceIndex& src, const UrdfOptions& options)
+      : urdf_(urdf), src_(src), locked_(options.locked) {
+    for (const auto& [name, position] : locked_) {
+      const urdf::JointConstSharedPtr joint = urdf_.getJoint(name);
+      if (!joint)
+        throw LockedJointError(src_.file + " has no joint '" + name + "'", name);
+      const std::string at = src_.atJoint(name) + "locked at " + std::to_string(position) + ": ";
+      if (joint->type != urdf::Joint::REVOLUTE && joint->type != urdf::Joint::CONTINUOUS &&
+          joint->type != urdf::Joint::PRISMATIC)
+        throw LockedJointError(at + "only a revolute, continuous or prismatic joint can be locked",
+                               name);
+      if (joint->type != urdf::Joint::CONTINUOUS && joint->limits &&
+          (position < joint->limits->lower || position > joint->limits->upper))
+        throw LockedJointError(at + "outside the joint's limits [" +
+                                   std::to_string(joint->limits->lower) + ", " +
+                                   std::to_string(joint->limits->upper) + "]",
+                               name);
+    }
+  }
 
   Model build() {
     model_.name = urdf_.getName();
@@ -186,11 +204,23 @@ class TreeBuilder {
     }
     for (const auto& joint : link.child_joints) {
       const SE3<double> at = placement * toSE3(joint->parent_to_joint_origin_transform);
-      if (joint->type == urdf::Joint::FIXED)
+      if (joint->type == urdf::Joint::FIXED) {
         collectGroup(*urdf_.getLink(joint->child_link_name), body, at, false, movable);
-      else
+      } else if (const auto lock = locked_.find(joint->name); lock != locked_.end()) {
+        collectGroup(*urdf_.getLink(joint->child_link_name), body, at * lockedMotion(*joint, lock->second),
+                     false, movable);
+      } else {
         movable.emplace_back(joint.get(), at);
+      }
     }
+  }
+
+  /// The child's frame in the joint frame of a joint held at `position`.
+  static SE3<double> lockedMotion(const urdf::Joint& joint, double position) {
+    const Vec3<double> axis = Vec3<double>(joint.axis.x, joint.axis.y, joint.axis.z).normalized();
+    if (joint.type == urdf::Joint::PRISMATIC)
+      return SE3<double>{Mat3<double>::Identity(), position * axis};
+    return SE3<double>{Eigen::AngleAxisd(position, axis).toRotationMatrix(), Vec3<double>::Zero()};
   }
 
   /// A body moved by `joint` (not fixed) relative to `parentBody`; `placement` is the joint frame
@@ -269,24 +299,26 @@ class TreeBuilder {
 
   const urdf::ModelInterface& urdf_;
   const SourceIndex& src_;
+  const std::map<std::string, double>& locked_;
   Model model_;
   std::vector<double> lower_, upper_, velocity_, effort_;
 };
 
 }  // namespace
 
-Model loadUrdfString(const std::string& xml, const std::string& sourceName) {
+Model loadUrdfString(const std::string& xml, const std::string& sourceName,
+                     const UrdfOptions& options) {
   const SourceIndex src = indexSource(xml, sourceName);
   const urdf::ModelInterfaceSharedPtr parsed = parseWithUrdfdom(xml, sourceName);
-  return TreeBuilder(*parsed, src).build();
+  return TreeBuilder(*parsed, src, options).build();
 }
 
-Model loadUrdfFile(const std::string& path) {
+Model loadUrdfFile(const std::string& path, const UrdfOptions& options) {
   std::ifstream in(path);
   if (!in) throw ModelError(path + ": cannot read the URDF: " + std::strerror(errno));
   std::stringstream text;
   text << in.rdbuf();
-  return loadUrdfString(text.str(), path);
+  return loadUrdfString(text.str(), path, options);
 }
 
 }  // namespace ballast::model

@@ -10,16 +10,34 @@
 // cannot be read, XML errors, anything urdfdom rejects (not a tree, no root, dangling links),
 // unsupported joint types, a moving link without <inertial> or with non-physical inertia,
 // limits that are missing, inverted or not positive, a zero axis.
+//
+// Locked joints (UrdfOptions::locked, the profile's robot.locked_joints) are fixed at their
+// angle: merged like fixed joints, the child placed where the joint at that angle puts it. They
+// are not the model's joints; a name that is not a movable joint, or an angle outside its limits,
+// is a ModelError naming the joint.
 #pragma once
 
+#include <map>
 #include <string>
 
 #include "model/model.hpp"
 
 namespace ballast::model {
 
-Model loadUrdfFile(const std::string& path);
+/// A locked joint the URDF cannot lock (the profile reports it at that entry).
+struct LockedJointError : ModelError {
+  LockedJointError(const std::string& message, std::string name)
+      : ModelError(message), joint(std::move(name)) {}
+  std::string joint;
+};
+
+struct UrdfOptions {
+  std::map<std::string, double> locked;  ///< joint -> position (rad or m) it is fixed at
+};
+
+Model loadUrdfFile(const std::string& path, const UrdfOptions& options = {});
 /// Same, from text; sourceName stands for the file in messages.
-Model loadUrdfString(const std::string& xml, const std::string& sourceName);
+Model loadUrdfString(const std::string& xml, const std::string& sourceName,
+                     const UrdfOptions& options = {});
 
 }  // namespace ballast::model

@@ -166,11 +166,21 @@ void addProfileFrames(const Profile& profile, const Settings& s, model::Model& m
 model::Model loadModel(const Profile& profile) {
   const Settings s = readSettings(profile);
   model::Model model;
+  model::UrdfOptions options;
+  options.locked.insert(s.joints.locked.begin(), s.joints.locked.end());
   try {
-    model = model::loadUrdfFile(s.urdf);
+    model = model::loadUrdfFile(s.urdf, options);
+  } catch (const model::LockedJointError& e) {
+    throw ProfileError({profile.problem(keyOf(s, &s.joints.locked), e.joint, e.what())});
   } catch (const model::ModelError& e) {
     throw ProfileError({profile.problem(keyOf(s, &s.urdf), e.what())});
   }
+  if (model.nj() > control::kMaxJoints)
+    throw ProfileError({profile.problem(
+        keyOf(s, &s.urdf),
+        model.sourceFile + " has " + std::to_string(model.nj()) + " movable joints; ballast " +
+            "controls at most " + std::to_string(control::kMaxJoints) + " (the backend ABI's " +
+            "limit): fix the others at an angle with " + keyOf(s, &s.joints.locked))});
   std::vector<std::string> frameProblems;
   addProfileFrames(profile, s, model, frameProblems);
   if (!frameProblems.empty()) throw ProfileError(frameProblems);

@@ -33,6 +33,7 @@ struct BackendSettings {
 struct JointSettings {
   schema::NamedLists groups;              ///< name -> URDF joints
   schema::NamedNumbers armature;          ///< group or joint -> reflected rotor inertia
+  schema::NamedNumbers locked;            ///< joint -> the angle it is fixed at
   schema::NamedNumbers posture;           ///< joint -> standing angle
   schema::NamedNumbers kp, kd;            ///< group -> motor PD gains
   std::vector<std::string> joint_space;   ///< the WBC's joint-space joints: joints or groups

@@ -67,6 +67,8 @@ bool SimbodyBackend::configure(const backend::Config& config, backend::Error& er
           throw std::runtime_error(std::string("Config::joints: joint ") + config.joints[i].name +
                                    ": armature must be finite and >= 0");
         options.armature[config.joints[i].name] = config.joints[i].armature;
+        if (config.joints[i].locked)
+          options.locked[config.joints[i].name] = config.joints[i].locked_position;
       }
     options.terrainMap = settings_.terrain_map.empty()
                              ? std::string(config.terrain_map ? config.terrain_map : "")

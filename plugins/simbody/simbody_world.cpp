@@ -38,7 +38,7 @@ double halfExtentAlong(const UrdfMultibody::CollisionShape& shape, const SimTK::
 SimbodyWorld::SimbodyWorld(const WorldOptions& options)
     : contacts_(options.contacts), urdfPath_(options.urdfPath) {
   const SimSettings& s = options.settings;
-  mb_ = buildUrdfMultibody(options.urdfPath, options.armature);
+  mb_ = buildUrdfMultibody(options.urdfPath, options.armature, options.locked);
   if (numJoints() > backend::kMaxJoints)
     throw std::runtime_error(urdfPath_ + ": " + std::to_string(numJoints()) +
                              " movable joints, the backend ABI carries at most " +

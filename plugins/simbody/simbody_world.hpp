@@ -47,6 +47,7 @@ struct WorldOptions {
   std::string terrainMap;  ///< resolved path of the map to simulate; "" = flat floor
   std::string terrainMapWhere;  ///< prefix for map errors ("file:line:col: terrain_map: ")
   std::map<std::string, double> armature;  ///< joint -> kg·m² (Config::joints)
+  std::map<std::string, double> locked;    ///< joint -> position it is welded at (Config::joints)
 };
 
 /// True IMU values (before the sensor model adds noise). The specific force is the IMU point's

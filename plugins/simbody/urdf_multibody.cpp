@@ -30,8 +30,17 @@ SimTK::MassProperties massProperties(const urdf::Inertial& in) {
 class Builder {
  public:
   Builder(const urdf::ModelInterface& urdf, UrdfMultibody& mb, std::map<std::string, int> order,
-          const std::map<std::string, double>& armature)
-      : urdf_(urdf), mb_(mb), order_(std::move(order)), armature_(armature) {}
+          const std::map<std::string, double>& armature,
+          const std::map<std::string, double>& locked)
+      : urdf_(urdf), mb_(mb), order_(std::move(order)), armature_(armature), locked_(locked) {
+    for (const auto& [name, position] : locked_) {
+      const urdf::JointConstSharedPtr j = urdf_.getJoint(name);
+      if (!j || j->type == urdf::Joint::FIXED || j->type == urdf::Joint::FLOATING ||
+          j->type == urdf::Joint::PLANAR)
+        throw std::runtime_error("locked joint '" + name + "' is no revolute, continuous or "
+                                 "prismatic joint of the robot");
+    }
+  }
 
   void build() {
     urdf::LinkConstSharedPtr root = urdf_.getRoot();
@@ -97,8 +106,16 @@ class Builder {
   void addJoint(const urdf::Joint& joint, SimTK::MobilizedBodyIndex parent,
                 const SimTK::Transform& X_PL) {
     const urdf::LinkConstSharedPtr child = urdf_.getLink(joint.child_link_name);
-    const SimTK::Transform X_PJ = X_PL * toTransform(joint.parent_to_joint_origin_transform);
-    if (joint.type == urdf::Joint::FIXED && !child->inertial) {
+    SimTK::Transform X_PJ = X_PL * toTransform(joint.parent_to_joint_origin_transform);
+    const auto lock = locked_.find(joint.name);
+    const bool fixed = joint.type == urdf::Joint::FIXED || lock != locked_.end();
+    if (lock != locked_.end()) {  // where the joint at that position puts the child
+      const SimTK::UnitVec3 u(joint.axis.x, joint.axis.y, joint.axis.z);
+      X_PJ = X_PJ * (joint.type == urdf::Joint::PRISMATIC
+                         ? SimTK::Transform(lock->second * u.asVec3())
+                         : SimTK::Transform(SimTK::Rotation(lock->second, u)));
+    }
+    if (fixed && !child->inertial) {
       addLink(*child, parent, X_PJ);
       return;
     }
@@ -106,7 +123,7 @@ class Builder {
       throw std::runtime_error("link '" + child->name + "' is moved by joint '" + joint.name +
                                "' but has no <inertial>");
     SimTK::MassProperties mass = massProperties(*child->inertial);
-    if (const auto a = armature_.find(joint.name); a != armature_.end() && a->second > 0.0) {
+    if (const auto a = armature_.find(joint.name); !fixed && a != armature_.end() && a->second > 0.0) {
       // The rotor: a disk on the joint axis at the joint (the child's origin), no extra mass.
       const SimTK::Vec3 u = SimTK::UnitVec3(joint.axis.x, joint.axis.y, joint.axis.z).asVec3();
       const SimTK::Mat33 axial = u * ~u;
@@ -118,7 +135,7 @@ class Builder {
     SimTK::MobilizedBody& P = mb_.matter.updMobilizedBody(parent);
     const SimTK::UnitVec3 axis(joint.axis.x, joint.axis.y, joint.axis.z);
     SimTK::MobilizedBodyIndex index;
-    switch (joint.type) {
+    switch (fixed ? urdf::Joint::FIXED : joint.type) {
       case urdf::Joint::FIXED:
         index = SimTK::MobilizedBody::Weld(P, X_PJ, body, SimTK::Transform())
                     .getMobilizedBodyIndex();
@@ -142,7 +159,7 @@ class Builder {
       default:
         throw std::runtime_error("joint '" + joint.name + "' has a type Simbody is not given");
     }
-    if (joint.type != urdf::Joint::FIXED) {
+    if (!fixed) {
       mb_.jointNames.push_back(joint.name);
       mb_.jointBody[joint.name] = index;
       mb_.effortLimit[joint.name] = joint.limits ? joint.limits->effort : 0.0;
@@ -159,12 +176,14 @@ class Builder {
   UrdfMultibody& mb_;
   std::map<std::string, int> order_;
   const std::map<std::string, double>& armature_;
+  const std::map<std::string, double>& locked_;
 };
 
 }  // namespace
 
 std::unique_ptr<UrdfMultibody> buildUrdfMultibody(const std::string& urdfPath,
-                                                  const std::map<std::string, double>& armature) {
+                                                  const std::map<std::string, double>& armature,
+                                                  const std::map<std::string, double>& locked) {
   std::ifstream in(urdfPath);
   if (!in) throw std::runtime_error(urdfPath + ": cannot read the URDF");
   std::stringstream text;
@@ -174,7 +193,7 @@ std::unique_ptr<UrdfMultibody> buildUrdfMultibody(const std::string& urdfPath,
   auto mb = std::make_unique<UrdfMultibody>();
   mb->robotName = parsed->getName();
   try {
-    Builder(*parsed, *mb, plugin::jointFileOrder(text.str()), armature).build();
+    Builder(*parsed, *mb, plugin::jointFileOrder(text.str()), armature, locked).build();
   } catch (const std::exception& e) {
     throw std::runtime_error(urdfPath + ": " + e.what());
   }

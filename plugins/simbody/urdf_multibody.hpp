@@ -72,7 +72,11 @@ struct UrdfMultibody {
 /// the joint's rate would (a real rotor turns N times faster, so the coupling of a gear ratio N
 /// is N times smaller): the controller's model (armature on the diagonal only) differs from
 /// this world by that coupling and the disk's transverse inertia.
+///
+/// locked (joint -> position, the controller's robot.locked_joints) welds each of those joints
+/// at that position: its child moves with the parent, and it is none of jointNames.
 std::unique_ptr<UrdfMultibody> buildUrdfMultibody(const std::string& urdfPath,
-                                                  const std::map<std::string, double>& armature = {});
+                                                  const std::map<std::string, double>& armature = {},
+                                                  const std::map<std::string, double>& locked = {});
 
 }  // namespace ballast::simbody

@@ -58,6 +58,13 @@ bool SocketcanBackend::configure(const backend::Config& config, backend::Error& 
     checkBusLoad(settings_, period_);
     const std::vector<plugin::UrdfJoint> joints =
         plugin::urdfJoints(config.urdf_path ? config.urdf_path : "");
+    // Holding a locked joint needs gains of its own at the motor (not declared yet): refused
+    // rather than left without commands.
+    for (int i = 0; i < config.num_joint_models; ++i)
+      if (config.joints && config.joints[i].locked)
+        throw SettingsError(settings_.where("motors") + "joint " + config.joints[i].name +
+                            " is locked (robot.locked_joints): this backend cannot hold a locked "
+                            "joint yet; unlock it or fix it in the URDF");
     // A motor for every movable joint, in URDF order; no motor for anything else.
     motors_.clear();
     for (const plugin::UrdfJoint& j : joints) {

@@ -205,6 +205,43 @@ TEST(Simulation, ContactPointsPlacedOnTheFeetCarryTheRobotWithOrWithoutSoleBoxes
   }
 }
 
+// Config::joints' locked joints are welded at their position: not the backend's joints, and the
+// hand hangs where the joint at that angle puts it.
+TEST(Simulation, LockedJointsAreWeldedAtTheirPosition) {
+  SimConfig sc;
+  sc.yaml = "initial_posture: stand\n";
+  backend::JointModel joints[2];
+  joints[0].name = "left_elbow";
+  joints[0].locked = true;
+  joints[0].locked_position = -1.2;
+  joints[1].name = "right_wrist_yaw";
+  joints[1].locked = true;
+  backend::Config config = sc.config();
+  config.joints = joints;
+  config.num_joint_models = 2;
+  SimbodyBackend backend;
+  backend::Error error;
+  ASSERT_TRUE(backend.configure(config, error)) << error.message;
+  ASSERT_TRUE(backend.start(error)) << error.message;
+  const backend::Capabilities& caps = backend.capabilities();
+  EXPECT_EQ(caps.num_joints, 22);
+  for (int j = 0; j < caps.num_joints; ++j) {
+    EXPECT_STRNE(caps.joint_names[j], "left_elbow");
+    EXPECT_STRNE(caps.joint_names[j], "right_wrist_yaw");
+  }
+  // The forearm, welded at -1.2 rad about the elbow's y axis: its z axis turned by that much in
+  // the upper arm's x-z plane (the shoulders at their initial 0).
+  const SimTK::State& st = backend.world().state();
+  const auto& links = backend.world().multibody().linkFrame;
+  const auto frameOf = [&](const char* link) {
+    const auto& f = links.at(link);
+    return backend.world().multibody().body(f.body).getBodyTransform(st) * f.inBody;
+  };
+  const SimTK::Rotation R = ~frameOf("left_upper_arm").R() * frameOf("left_forearm").R();
+  EXPECT_NEAR(R[0][2], std::sin(-1.2), 1e-9);
+  EXPECT_NEAR(R[2][2], std::cos(-1.2), 1e-9);
+}
+
 TEST(Simulation, APushOnTheTorsoInTheAirChangesMomentumByItsImpulse) {
   Sim sim("initial_clearance: 50");
   ASSERT_TRUE(sim.ok) << sim.message;

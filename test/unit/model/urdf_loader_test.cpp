@@ -230,5 +230,61 @@ TEST(UrdfLoader, MasslessBaseIsRejected) {
   EXPECT_NE(msg.find("<link name=\"base\">: the floating base"), std::string::npos) << msg;
 }
 
+// A locked joint is a fixed one at its angle: the model loses the joint, not the mass, and
+// every frame sits where the free model puts it with the joint at that angle.
+TEST(UrdfLoader, ALockedJointIsFixedAtItsAngle) {
+  model::UrdfOptions options;
+  options.locked = {{"left_elbow", -0.7}, {"right_wrist_yaw", 0.3}};
+  const model::Model locked = model::loadUrdfFile(humanoidUrdf(), options);
+  const model::Model& free = humanoid();
+  ASSERT_EQ(locked.nj(), free.nj() - 2);
+  EXPECT_LT(locked.findJoint("left_elbow"), 0);
+  EXPECT_LT(locked.findJoint("right_wrist_yaw"), 0);
+  EXPECT_EQ(locked.frames[locked.frameId("left_forearm")].body,
+            locked.frames[locked.frameId("left_upper_arm")].body);
+
+  model::VecX<double> qf = model::neutralConfiguration(free);
+  qf[7 + free.jointId("left_elbow")] = -0.7;
+  qf[7 + free.jointId("right_wrist_yaw")] = 0.3;
+  qf[7 + free.jointId("left_knee")] = 0.5;
+  model::VecX<double> ql = model::neutralConfiguration(locked);
+  ql[7 + locked.jointId("left_knee")] = 0.5;
+  model::Data<double> df{free}, dl{locked};
+  model::forwardKinematics(free, df, qf);
+  model::forwardKinematics(locked, dl, ql);
+  for (const char* f : {"left_hand", "right_hand", "left_toe", "head"}) {
+    const auto a = model::framePlacement(free, df, free.frameId(f));
+    const auto b = model::framePlacement(locked, dl, locked.frameId(f));
+    EXPECT_TRUE(a.p.isApprox(b.p, 1e-12)) << f;
+    EXPECT_TRUE(a.R.isApprox(b.R, 1e-12)) << f;
+  }
+  EXPECT_NEAR(model::centerOfMass(locked, dl, ql).z(), model::centerOfMass(free, df, qf).z(), 1e-12);
+  EXPECT_NEAR(dl.mass, df.mass, 1e-12);
+}
+
+TEST(UrdfLoader, ALockedJointMustBeAMovableJointLockedWithinItsLimits) {
+  model::UrdfOptions options;
+  options.locked = {{"left_elbw", 0.0}};
+  try {
+    model::loadUrdfFile(humanoidUrdf(), options);
+    FAIL();
+  } catch (const model::LockedJointError& e) {
+    EXPECT_EQ(e.joint, "left_elbw");
+    EXPECT_NE(std::string(e.what()).find("has no joint 'left_elbw'"), std::string::npos) << e.what();
+  }
+  options.locked = {{"left_knee", -0.5}};
+  try {
+    model::loadUrdfFile(humanoidUrdf(), options);
+    FAIL();
+  } catch (const model::LockedJointError& e) {
+    EXPECT_NE(std::string(e.what()).find("<joint name=\"left_knee\">: locked at -0.500000: outside "
+                                         "the joint's limits [0.000000, 2.400000]"),
+              std::string::npos)
+        << e.what();
+  }
+  options.locked = {{"waist", 0.0}};
+  EXPECT_THROW(model::loadUrdfFile(humanoidUrdf(), options), model::LockedJointError);
+}
+
 }  // namespace
 }  // namespace ballast::test

@@ -321,6 +321,48 @@ robot:
   }
 }
 
+// robot.locked_joints: fixed at their angle in the model, in no group; a name the URDF lacks is
+// reported at its entry.
+TEST_F(ProfileTest, LockedJointsLeaveTheModelAndTheGroups) {
+  base();
+  const std::string path = write("p.yaml", R"(extends: base
+robot:
+  locked_joints: {left_wrist_yaw: 0.2, right_wrist_yaw: -10deg}
+  joint_groups:
+    arms: [left_shoulder_pitch, left_shoulder_roll, left_shoulder_yaw, left_elbow, left_wrist_pitch,
+           right_shoulder_pitch, right_shoulder_roll, right_shoulder_yaw, right_elbow, right_wrist_pitch]
+)");
+  const Profile p = Profile::load(path);
+  const model::Model m = loadModel(p);
+  EXPECT_EQ(m.nj(), 22);
+  EXPECT_LT(m.findJoint("left_wrist_yaw"), 0);
+  const Settings s = settingsFor(p, m);
+  EXPECT_NEAR(s.joints.locked.at("right_wrist_yaw"), -10.0 * M_PI / 180.0, 1e-12);
+  EXPECT_EQ(s.control.num_joints, 22);
+
+  const std::string bad = write("q.yaml", R"(extends: base
+robot:
+  locked_joints: {left_wrist_yaw: 0.2, left_wrist_yew: 0}
+)");
+  const auto q = problems(bad);
+  ASSERT_EQ(q.size(), 1u) << testing::PrintToString(q);
+  EXPECT_EQ(q[0].rfind(bad + ":3:40: robot.locked_joints.left_wrist_yew: " + test::humanoidUrdf() +
+                           " has no joint 'left_wrist_yew'",
+                       0),
+            0u)
+      << q[0];
+  // Still grouped: the group names a joint the model no longer moves.
+  const std::string grouped = write("r.yaml", R"(extends: base
+robot:
+  locked_joints: {left_wrist_yaw: 0.2}
+)");
+  const auto r = problems(grouped);
+  ASSERT_FALSE(r.empty());
+  EXPECT_NE(r[0].find("robot.joint_groups.arms: no movable joint named 'left_wrist_yaw'"),
+            std::string::npos)
+      << r[0];
+}
+
 TEST_F(ProfileTest, EveryJointNeedsAGroupAndEveryGroupGains) {
   const std::string path = write("p.yaml", "robot:\n  urdf: " + test::humanoidUrdf() +
                                                "\n  joint_groups:\n    legs: [left_knee]\n"
