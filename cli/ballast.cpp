@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/client.hpp"
+#include "blog/blog.hpp"
 #include "cli/plot.hpp"
 #include "cli/status_view.hpp"
 #include "cli/units.hpp"
@@ -205,6 +206,62 @@ int plot(const std::string& file, const std::string& out, const std::string& tit
   return kOk;
 }
 
+/// `ballast log FILE --info | --to tsv [-o OUT]`: a binary recording's header, or the TSV
+/// recording it converts to.
+int logCmd(const std::string& file, bool info, const std::string& to, const std::string& out,
+           const Options& o) {
+  std::string error;
+  if (info) {
+    blog::Summary s;
+    if (!blog::summarize(file, s, error)) return refuse(o, "bad_recording", error);
+    const double duration = s.frames > 0 ? s.t_last - s.t_first : 0.0;
+    const double per_frame = s.frames > 0 ? double(s.bytes) / double(s.frames) : 0.0;
+    if (o.json) {
+      json cols = json::array();
+      for (const auto& c : s.header.columns)
+        cols.push_back({{"name", c.name}, {"unit", c.unit}, {"type", blog::typeName(c.type)}});
+      json j = {{"ok", true},          {"file", file},
+                {"format", s.header.version}, {"profile", s.header.profile},
+                {"robot", s.header.robot},    {"start", blog::utcTime(s.header.start_unix_ns)},
+                {"frames", s.frames},         {"t_first", s.t_first},
+                {"t_last", s.t_last},         {"duration", duration},
+                {"bytes", s.bytes},           {"bytes_per_frame", per_frame},
+                {"columns", cols},            {"truncated", s.truncated}};
+      if (s.truncated) j["truncation"] = s.truncation;
+      std::cout << j.dump() << "\n";
+      return kOk;
+    }
+    std::printf("file      %s\nformat    ballast binary log, version %u\n", file.c_str(),
+                s.header.version);
+    std::printf("profile   %s\nrobot     %s\nstart     %s\n", s.header.profile.c_str(),
+                s.header.robot.c_str(), blog::utcTime(s.header.start_unix_ns).c_str());
+    std::printf("frames    %llu (t %.3f to %.3f s: %.3f s)\n",
+                static_cast<unsigned long long>(s.frames), s.t_first, s.t_last, duration);
+    std::printf("size      %llu bytes (%.1f bytes per frame)\n",
+                static_cast<unsigned long long>(s.bytes), per_frame);
+    if (s.truncated) std::printf("truncated %s: read up to the last complete block\n", s.truncation.c_str());
+    std::printf("columns   %zu:", s.header.columns.size());
+    for (const auto& c : s.header.columns)
+      std::printf(" %s[%s,%s]", c.name.c_str(), c.unit.c_str(), blog::typeName(c.type));
+    std::printf("\n");
+    return kOk;
+  }
+  if (to != "tsv") return usage("ballast log: give --info or --to tsv");
+  std::FILE* f = stdout;
+  if (!out.empty() && out != "-") {
+    f = std::fopen(out.c_str(), "w");
+    if (!f) return refuse(o, "io_error", "cannot write " + out + ": " + std::strerror(errno));
+  }
+  std::string truncation;
+  const bool ok = blog::writeTsv(file, f, error, &truncation);
+  if (f != stdout) std::fclose(f);
+  if (!ok) return refuse(o, "bad_recording", error);
+  if (!truncation.empty())
+    std::fprintf(stderr, "ballast log: %s is truncated (%s): converted up to its last complete block\n",
+                 file.c_str(), truncation.c_str());
+  return kOk;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -297,6 +354,16 @@ int main(int argc, char** argv) {
   plotCmd->add_option("file", plotFile, "telemetry recording")->required();
   plotCmd->add_option("-o,--output", plotOut, "PNG to write")->required();
   plotCmd->add_option("--title", plotTitle, "title above the panels");
+
+  auto* logCmdApp =
+      app.add_subcommand("log", "a binary recording (.blog): its header, or converted to TSV");
+  std::string logFile, logTo, logOut;
+  bool logInfo = false;
+  logCmdApp->add_option("file", logFile, "binary recording (.blog)")->required();
+  logCmdApp->add_flag("--info", logInfo, "print the header, frames, duration and size");
+  logCmdApp->add_option("--to", logTo, "convert to this format (tsv)")
+      ->check(CLI::IsMember({"tsv"}));
+  logCmdApp->add_option("-o,--output", logOut, "file to write (default: standard output)");
 
   auto* lease = app.add_subcommand("lease", "the command lease (motion commands need it)");
   lease->require_subcommand(1);
@@ -438,6 +505,7 @@ int main(int argc, char** argv) {
                  });
   }
   if (name == "plot") return plot(plotFile, plotOut, plotTitle, o);
+  if (name == "log") return logCmd(logFile, logInfo, logTo, logOut, o);
   if (name == "lease") {
     const std::string what = sub(verb);
     if (what == "return") {

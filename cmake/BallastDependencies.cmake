@@ -9,6 +9,8 @@ find_package(octomap REQUIRED)                         # octomap, octomath
 find_package(spdlog 1.10 REQUIRED)                     # spdlog::spdlog
 find_package(CLI11 2.1 REQUIRED)                       # CLI11::CLI11
 find_package(nlohmann_json 3.11 REQUIRED)              # nlohmann_json::nlohmann_json
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(zstd REQUIRED IMPORTED_TARGET libzstd)  # PkgConfig::zstd (libzstd-dev): .blog
 # Only ceres/jet.h (forward-mode AD) is used: header-only, so the static Ceres archive and its
 # glog/gflags/SuiteSparse dependencies are not linked.
 find_path(CERES_JET_INCLUDE_DIR ceres/jet.h REQUIRED)

@@ -20,25 +20,19 @@ void headingVelocity(const BaseState& b, double& forward, double& lateral) {
   lateral = -s * b.linear_velocity[0] + c * b.linear_velocity[1];
 }
 
-void put(std::string& line, double x) {
-  char buf[32];
-  if (std::isnan(x)) {
-    line += "NaN\t";
-    return;
-  }
-  const auto r = std::to_chars(buf, buf + sizeof(buf), x, std::chars_format::general, 9);
-  line.append(buf, r.ptr);
-  line += '\t';
-}
-
-void putBase(std::string& line, const BaseState& b, bool valid) {
+void putBase(double*& out, const BaseState& b, bool valid) {
   double f = kNaN, l = kNaN;
   if (valid) headingVelocity(b, f, l);
   const double* groups[4] = {b.position, b.linear_velocity, b.rpy, b.angular_velocity};
   for (const double* g : groups)
-    for (int i = 0; i < 3; ++i) put(line, valid ? g[i] : kNaN);
-  put(line, f);
-  put(line, l);
+    for (int i = 0; i < 3; ++i) *out++ = valid ? g[i] : kNaN;
+  *out++ = f;
+  *out++ = l;
+}
+
+bool endsWith(const std::string& s, const char* suffix) {
+  const std::size_t n = std::strlen(suffix);
+  return s.size() >= n && s.compare(s.size() - n, n, suffix) == 0;
 }
 
 }  // namespace
@@ -65,30 +59,73 @@ std::vector<std::string> telemetryColumns(const std::vector<std::string>& joints
   return c;
 }
 
-void formatTelemetryLine(const TelemetryFrame& f, std::string& line) {
-  put(line, f.t);
-  put(line, static_cast<double>(f.mode));
-  putBase(line, f.base, true);
-  putBase(line, f.truth, f.has_truth);
+std::vector<blog::Column> telemetryColumnsDescribed(const std::vector<std::string>& joints) {
+  using blog::Type;
+  // Units by name; every physical quantity is f32 (blog/blog.hpp says why), t is f64, the mode
+  // and the contact flags u8.
+  static const std::pair<const char*, const char*> kUnits[] = {
+      {"t", "s"}, {"mode", "-"}, {"x", "m"}, {"y", "m"}, {"z", "m"}, {"vx", "m/s"},
+      {"vy", "m/s"}, {"vz", "m/s"}, {"roll", "rad"}, {"pitch", "rad"}, {"yaw", "rad"},
+      {"wx", "rad/s"}, {"wy", "rad/s"}, {"wz", "rad/s"}, {"v_fwd", "m/s"}, {"v_lat", "m/s"},
+      {"cmd_vx", "m/s"}, {"cmd_vy", "m/s"}, {"cmd_yaw_rate", "rad/s"}, {"cmd_height", "m"},
+      {"cmd_roll", "rad"}, {"cmd_pitch", "rad"}, {"cmd_yaw", "rad"}, {"mpc_ms", "ms"},
+      {"wbc_ms", "ms"}, {"tick_ms", "ms"}, {"lateness_ms", "ms"}, {"limb_err", "rad"}};
+  static const std::pair<const char*, const char*> kPrefixes[] = {
+      {"true_", nullptr}, {"contact_", "-"}, {"err_p", "-"}, {"q_", "rad"}, {"dq_", "rad/s"},
+      {"tau_", "N*m"}, {"qref_", "rad"}, {"tauff_", "N*m"}};
+  std::vector<blog::Column> out;
+  for (const std::string& name : telemetryColumns(joints)) {
+    blog::Column c{name, "-", Type::kF32};
+    std::string base = name;
+    for (const auto& [prefix, unit] : kPrefixes)
+      if (name.rfind(prefix, 0) == 0) {
+        if (unit) c.unit = unit;
+        else base = name.substr(std::strlen(prefix));
+        break;
+      }
+    for (const auto& [n, unit] : kUnits)
+      if (base == n) c.unit = unit;
+    if (name == "t") c.type = Type::kF64;
+    if (name == "mode" || name.rfind("contact_", 0) == 0) c.type = Type::kU8;
+    out.push_back(c);
+  }
+  return out;
+}
+
+std::size_t telemetryValues(const TelemetryFrame& f, double* values) {
+  double* out = values;
+  *out++ = f.t;
+  *out++ = static_cast<double>(f.mode);
+  putBase(out, f.base, true);
+  putBase(out, f.truth, f.has_truth);
   const BaseCommand& c = f.command;
-  for (double x : {c.vx, c.vy, c.yaw_rate, c.height, c.roll, c.pitch, c.yaw}) put(line, x);
-  for (bool b : f.contact) put(line, b ? 1.0 : 0.0);
-  for (double e : f.task_error) put(line, e);
-  put(line, f.mpc_ms);
-  put(line, f.wbc_ms);
-  put(line, f.tick_ms);
-  put(line, f.lateness_ms);
+  for (double x : {c.vx, c.vy, c.yaw_rate, c.height, c.roll, c.pitch, c.yaw}) *out++ = x;
+  for (bool b : f.contact) *out++ = b ? 1.0 : 0.0;
+  for (double e : f.task_error) *out++ = e;
+  *out++ = f.mpc_ms;
+  *out++ = f.wbc_ms;
+  *out++ = f.tick_ms;
+  *out++ = f.lateness_ms;
   double sum = 0.0;
   for (int j = 0; j < f.num_joints; ++j) sum += (f.q[j] - f.q_ref[j]) * (f.q[j] - f.q_ref[j]);
-  put(line, f.num_joints > 0 ? std::sqrt(sum / f.num_joints) : 0.0);
+  *out++ = f.num_joints > 0 ? std::sqrt(sum / f.num_joints) : 0.0;
   const double* arrays[5] = {f.q, f.dq, f.tau, f.q_ref, f.tau_ff};
   for (const double* a : arrays)
-    for (int j = 0; j < f.num_joints; ++j) put(line, a[j]);
+    for (int j = 0; j < f.num_joints; ++j) *out++ = a[j];
+  return static_cast<std::size_t>(out - values);
+}
+
+void formatTelemetryLine(const TelemetryFrame& f, std::string& line) {
+  double values[kMaxTelemetryColumns];
+  const std::size_t n = telemetryValues(f, values);
+  for (std::size_t i = 0; i < n; ++i) blog::appendTsv(line, values[i]);
   line.back() = '\n';
 }
 
 TelemetryWriter::TelemetryWriter(TelemetryRing& ring, std::vector<std::string> joint_names)
-    : ring_(ring), joint_names_(std::move(joint_names)) {}
+    : ring_(ring),
+      joint_names_(std::move(joint_names)),
+      values_(kMaxTelemetryColumns) {}
 
 TelemetryWriter::~TelemetryWriter() {
   stop();
@@ -111,11 +148,27 @@ void TelemetryWriter::stop() {
   }
 }
 
-bool TelemetryWriter::startRecording(const std::string& path, std::string& error) {
+bool TelemetryWriter::startRecording(const std::string& path, std::string& error,
+                                     const RecordingInfo& info) {
   std::lock_guard<std::mutex> lock(mutex_);
-  if (file_) {
+  if (file_ || blog_.isOpen()) {
     error = "already recording to " + path_ + ": run `ballast record stop` first";
     return false;
+  }
+  if (endsWith(path, ".blog")) {
+    blog::Header h;
+    h.profile = info.profile.empty() ? "-" : info.profile;
+    h.robot = info.robot.empty() ? "-" : info.robot;
+    h.start_unix_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
+                          std::chrono::system_clock::now().time_since_epoch())
+                          .count();
+    h.columns = telemetryColumnsDescribed(joint_names_);
+    if (!blog_.open(path, h, error)) return false;
+    path_ = path;
+    frames_ = 0;
+    file_id_ = ++next_id_;
+    recording_.store(file_id_, std::memory_order_relaxed);
+    return true;
   }
   std::FILE* f = std::fopen(path.c_str(), "w");
   if (!f) {
@@ -137,7 +190,7 @@ bool TelemetryWriter::startRecording(const std::string& path, std::string& error
 bool TelemetryWriter::stopRecording(std::uint64_t& frames, std::string& path) {
   {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (!file_) return false;
+    if (!file_ && !blog_.isOpen()) return false;
     recording_.store(0, std::memory_order_relaxed);
   }
   // The loop may be pushing the recording's last frame right now: give the writer a moment to
@@ -148,8 +201,9 @@ bool TelemetryWriter::stopRecording(std::uint64_t& frames, std::string& path) {
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   std::lock_guard<std::mutex> lock(mutex_);
   drain(ring_.capacity());
-  std::fclose(file_);
+  if (file_) std::fclose(file_);
   file_ = nullptr;
+  blog_.close();
   file_id_ = 0;
   frames = frames_;
   path = path_;
@@ -165,7 +219,14 @@ std::size_t TelemetryWriter::drain(std::size_t max_frames) {
   TelemetryFrame frame;
   std::size_t n = 0;
   for (; n < max_frames && ring_.tryPop(frame); ++n) {
-    if (!file_ || frame.recording != file_id_) continue;
+    if (frame.recording != file_id_ || file_id_ == 0) continue;
+    if (blog_.isOpen()) {
+      telemetryValues(frame, values_.data());
+      blog_.append(values_.data());
+      ++frames_;
+      continue;
+    }
+    if (!file_) continue;
     line_.clear();
     formatTelemetryLine(frame, line_);
     std::fwrite(line_.data(), 1, line_.size(), file_);

@@ -1,5 +1,7 @@
 // Telemetry: one frame per control tick (every telemetry.decimation ticks), written by its own
-// thread as tab-separated text that gnuplot and `ballast plot` read directly.
+// thread either as tab-separated text that gnuplot and `ballast plot` read directly (FILE.tsv, or
+// any other name) or as the compact binary log of blog/blog.hpp (FILE.blog: 5x smaller, converted
+// by `ballast log`).
 //
 // The loop fills a TelemetryFrame and pushes it into a ring; it never formats, allocates or
 // touches the file. The writer thread drains the ring into the file while recording. If the
@@ -19,6 +21,7 @@
 #include <thread>
 #include <vector>
 
+#include "blog/blog.hpp"
 #include "control/spsc_ring.hpp"
 #include "control/types.hpp"
 
@@ -44,10 +47,25 @@ struct TelemetryFrame {
 
 using TelemetryRing = SpscRing<TelemetryFrame>;
 
+/// The most columns a frame has (t, mode, base estimate and truth, command, contacts, task errors,
+/// times, limb error, five values per joint).
+inline constexpr std::size_t kMaxTelemetryColumns =
+    2 + 28 + 7 + kNumContacts + kNumPriorityLevels + 5 + 5 * kMaxJoints;
+
 /// Column names, in file order, for a robot with these joints.
 std::vector<std::string> telemetryColumns(const std::vector<std::string>& joint_names);
+/// The same with each column's unit and its type in a .blog.
+std::vector<blog::Column> telemetryColumnsDescribed(const std::vector<std::string>& joint_names);
+/// One frame's values in column order (values holds telemetryColumns().size()); returns how
+/// many it wrote.
+std::size_t telemetryValues(const TelemetryFrame& frame, double* values);
 /// Appends one frame as a line (tab-separated, '\n'-terminated).
 void formatTelemetryLine(const TelemetryFrame& frame, std::string& line);
+
+/// What a recording's .blog header says besides the columns.
+struct RecordingInfo {
+  std::string profile, robot;
+};
 
 class TelemetryWriter {
  public:
@@ -58,9 +76,9 @@ class TelemetryWriter {
   /// Drains what is left of the current recording, closes it and ends the thread.
   void stop();
 
-  /// IO side. Opens path (truncating) and starts a recording; false with a message if the file
-  /// cannot be opened or a recording is already on.
-  bool startRecording(const std::string& path, std::string& error);
+  /// IO side. Opens path (truncating) and starts a recording, binary if path ends in .blog, TSV
+  /// otherwise; false with a message if the file cannot be opened or a recording is already on.
+  bool startRecording(const std::string& path, std::string& error, const RecordingInfo& info = {});
   /// Ends the recording after writing every frame the loop produced for it. Returns the frames
   /// written; false if nothing was recording.
   bool stopRecording(std::uint64_t& frames, std::string& path);
@@ -84,6 +102,8 @@ class TelemetryWriter {
   std::string path_;
   std::uint64_t frames_ = 0;
   std::string line_;
+  blog::Writer blog_;            // open while recording a .blog
+  std::vector<double> values_;   // one frame's values (sized once)
   std::atomic<bool> stop_{false};
   std::thread thread_;
 };

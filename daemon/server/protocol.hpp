@@ -119,7 +119,7 @@ inline constexpr Command kCommands[] = {
     {"profile_use", true, kNameField, 1, "switch to a profile (validated first; gains blend)"},
     {"map_load", true, kPathField, 1, "load a terrain map (.bt, .ot)"},
     {"map_info", false, kNoFields, 0, "the terrain map in use"},
-    {"record_start", false, kPathField, 1, "record telemetry at the control rate to a file"},
+    {"record_start", false, kPathField, 1, "record telemetry at the control rate (FILE.blog binary, else text)"},
     {"record_stop", false, kNoFields, 0, "stop recording"},
     {"lease_acquire", false, kNoFields, 0, "take the free command lease (or renew yours)"},
     {"lease_take", false, kNoFields, 0, "take the command lease from whoever holds it"},

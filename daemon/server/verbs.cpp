@@ -132,7 +132,10 @@ void Server::recordStart(Client& c, const Request& r) {
          "record_start: path must be absolute (the daemon's working directory is not yours)");
     return;
   }
-  if (!ctx_.writer->startRecording(path, error)) {
+  control::RecordingInfo info;
+  if (ctx_.profile) info.profile = ctx_.profile->name();
+  if (ctx_.model) info.robot = ctx_.model->name;
+  if (!ctx_.writer->startRecording(path, error, info)) {
     fail(c.fd, r.id, ctx_.writer->recording() ? protocol::kRefused : protocol::kIoError, error);
     return;
   }

@@ -4,10 +4,14 @@
 // walk, switches settings, records telemetry, faults on a NaN, is estopped and reset.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <list>
 #include <thread>
 
@@ -424,6 +428,203 @@ TEST_F(NoAllocation, TheLoopAllocatesNothingPerTick) {
   writer.stop();
   EXPECT_EQ(frames, loop_->status().telemetry_frames);
   std::filesystem::remove(file);
+}
+
+TEST_F(NoAllocation, TheLoopAllocatesNothingPerTickRecordingABinaryLog) {
+  const std::string file = std::filesystem::temp_directory_path() /
+                           ("ballast-noalloc-" + std::to_string(getpid()) + ".blog");
+  TelemetryWriter writer(loop_->telemetryRing(), loop_->jointNames());
+  loop_->setTelemetryWriter(&writer);
+  writer.start();
+  std::string error;
+  ASSERT_TRUE(writer.startRecording(file, error)) << error;
+  ticks(3);
+  OperatorCommand c;
+  c.kind = CommandKind::kStand;
+  c.sequence = ++sequence_;
+  ASSERT_TRUE(loop_->submit(c));
+  EXPECT_EQ(test::allocationsIn([&] { ticks(2400); }), 0);  // blocks of 1000 frames written
+  std::uint64_t frames;
+  std::string path;
+  ASSERT_TRUE(writer.stopRecording(frames, path));
+  writer.stop();
+  EXPECT_EQ(frames, loop_->status().telemetry_frames);
+  blog::Summary s;
+  ASSERT_TRUE(blog::summarize(file, s, error)) << error;
+  EXPECT_EQ(s.frames, frames);
+  std::filesystem::remove(file);
+}
+
+// ---- the binary log against the text one
+
+/// Splits a TSV recording into its lines.
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  for (std::size_t end; (end = text.find('\n', start)) != std::string::npos; start = end + 1)
+    out.push_back(text.substr(start, end - start));
+  return out;
+}
+std::vector<std::string> cells(const std::string& line) {
+  std::vector<std::string> out;
+  std::size_t start = 0;
+  for (std::size_t end;; start = end + 1) {
+    end = line.find('\t', start);
+    out.push_back(line.substr(start, end - start));
+    if (end == std::string::npos) break;
+  }
+  return out;
+}
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+std::string blogAsTsv(const std::string& path) {
+  const std::string out = path + ".tsv";
+  std::FILE* f = std::fopen(out.c_str(), "w");
+  std::string error, truncation;
+  EXPECT_TRUE(blog::writeTsv(path, f, error, &truncation)) << error;
+  std::fclose(f);
+  EXPECT_TRUE(truncation.empty()) << truncation;
+  std::string text = slurp(out);
+  std::filesystem::remove(out);
+  return text;
+}
+
+/// Compares the TSV converted from a .blog with the TSV the writer wrote: the same header, the
+/// same rows; f64 and u8 columns print the same text, an f32 column's value is the TSV's within
+/// f32 rounding (the TSV prints 9 digits of the double, the .blog keeps its nearest float).
+/// Columns named in skip are not compared (wall-clock times across two runs).
+void expectSameRecording(const std::string& tsv, const std::string& converted,
+                         const std::vector<blog::Column>& columns,
+                         const std::vector<std::string>& skip = {}) {
+  const auto a = lines(tsv), b = lines(converted);
+  ASSERT_EQ(a.size(), b.size());
+  ASSERT_GE(a.size(), 3u);
+  EXPECT_EQ(a[0], b[0]);
+  EXPECT_EQ(a[1], b[1]);
+  std::size_t exact = 0, rounded = 0;
+  for (std::size_t i = 2; i < a.size(); ++i) {
+    const auto x = cells(a[i]), y = cells(b[i]);
+    ASSERT_EQ(x.size(), columns.size()) << "row " << i;
+    ASSERT_EQ(y.size(), columns.size()) << "row " << i;
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      if (std::find(skip.begin(), skip.end(), columns[c].name) != skip.end()) continue;
+      if (columns[c].type != blog::Type::kF32 || x[c] == "NaN") {
+        ASSERT_EQ(x[c], y[c]) << "row " << i << " column " << columns[c].name;
+        ++exact;
+        continue;
+      }
+      const double u = std::strtod(x[c].c_str(), nullptr), v = std::strtod(y[c].c_str(), nullptr);
+      ASSERT_LE(std::abs(u - v), std::ldexp(std::abs(u), -23) + 1e-300)
+          << "row " << i << " column " << columns[c].name << ": " << x[c] << " vs " << y[c];
+      ++rounded;
+    }
+  }
+  EXPECT_GT(exact, 0u);
+  EXPECT_GT(rounded, 0u);
+}
+
+TEST_F(LoopOnFake, BinaryAndTextRecordingsOfTheSameLockstepRunAgree) {
+  // The fake backend in lockstep is deterministic: two fresh loops given the same commands
+  // produce the same frames, but for the wall-clock times (solve and tick times).
+  const std::string base = std::filesystem::temp_directory_path() /
+                           ("ballast-roundtrip-" + std::to_string(getpid()));
+  auto record = [&](const std::string& file) {
+    TelemetryWriter writer(loop_->telemetryRing(), loop_->jointNames());
+    loop_->setTelemetryWriter(&writer);
+    writer.start();
+    std::string error;
+    ASSERT_TRUE(writer.startRecording(file, error, {"sim-flat", "humanoid"})) << error;
+    ASSERT_TRUE(standUp());
+    OperatorCommand c;
+    c.kind = CommandKind::kPose;
+    c.height = 0.84;
+    c.pitch = 0.05;
+    command(c);
+    ticks(1500);
+    std::uint64_t frames;
+    std::string path;
+    ASSERT_TRUE(writer.stopRecording(frames, path));
+    writer.stop();
+    loop_->setTelemetryWriter(nullptr);
+  };
+  record(base + ".tsv");
+  TearDown();
+  SetUp();
+  record(base + ".blog");
+  const auto columns = telemetryColumnsDescribed(loop_->jointNames());
+  expectSameRecording(slurp(base + ".tsv"), blogAsTsv(base + ".blog"), columns,
+                      {"mpc_ms", "wbc_ms", "tick_ms", "lateness_ms"});
+  blog::Summary s;
+  std::string error;
+  ASSERT_TRUE(blog::summarize(base + ".blog", s, error)) << error;
+  EXPECT_EQ(s.header.profile, "sim-flat");
+  EXPECT_EQ(s.header.robot, "humanoid");
+  EXPECT_GT(s.frames, 1500u);
+  std::filesystem::remove(base + ".tsv");
+  std::filesystem::remove(base + ".blog");
+}
+
+TEST(TelemetryWriter, BinaryAndTextRecordingsOfTheSameFramesAgreeInEveryColumn) {
+  // The same frames (with every field set, the times too) through two writers.
+  TelemetryRing text_ring(4096), binary_ring(4096);
+  const std::vector<std::string> joints = {"hip", "knee", "ankle"};
+  TelemetryWriter text(text_ring, joints), binary(binary_ring, joints);
+  const std::string base = std::filesystem::temp_directory_path() /
+                           ("ballast-frames-" + std::to_string(getpid()));
+  std::string error;
+  ASSERT_TRUE(text.startRecording(base + ".tsv", error)) << error;
+  ASSERT_TRUE(binary.startRecording(base + ".blog", error)) << error;
+  text.start();
+  binary.start();
+  for (int i = 0; i < 2500; ++i) {
+    TelemetryFrame f;
+    const double t = 0.001 * i;
+    f.t = t;
+    f.mode = static_cast<Mode>(i / 1000);
+    for (int k = 0; k < 3; ++k) {
+      f.base.position[k] = 0.1 * k + 0.01 * std::sin(t + k);
+      f.base.linear_velocity[k] = 0.3 * std::cos(2 * t + k);
+      f.base.rpy[k] = 0.02 * std::sin(3 * t + k);
+      f.base.angular_velocity[k] = 0.1 * std::cos(5 * t + k);
+    }
+    f.has_truth = i % 2 == 0;
+    f.truth = f.base;
+    f.truth.position[2] += 1e-3;
+    f.command.vx = 0.5;
+    f.command.height = 0.84;
+    for (int k = 0; k < kNumContacts; ++k) f.contact[k] = (i / 350 + k) % 2 == 0;
+    for (int k = 0; k < kNumPriorityLevels; ++k) f.task_error[k] = k == 3 ? kNaN : 1e-3 * (k + 1) * std::sin(t);
+    f.mpc_ms = 2.1 + 0.01 * (i % 7);
+    f.wbc_ms = 0.31 + 0.001 * (i % 5);
+    f.tick_ms = 0.4 + 0.003 * (i % 11);
+    f.lateness_ms = 0.0;
+    f.num_joints = 3;
+    for (int j = 0; j < 3; ++j) {
+      f.q[j] = 0.3 * std::sin(6 * t + j);
+      f.dq[j] = 1.8 * std::cos(6 * t + j);
+      f.tau[j] = 40 * std::sin(6 * t + j) + 0.05 * ((i * 7919 + j * 104729) % 101);
+      f.q_ref[j] = f.q[j] + 1e-3;
+      f.tau_ff[j] = 38 * std::sin(6 * t + j);
+    }
+    f.recording = text.activeRecording();
+    while (!text_ring.tryPush(f)) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    f.recording = binary.activeRecording();
+    while (!binary_ring.tryPush(f)) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  std::uint64_t text_frames, binary_frames;
+  std::string path;
+  ASSERT_TRUE(text.stopRecording(text_frames, path));
+  ASSERT_TRUE(binary.stopRecording(binary_frames, path));
+  text.stop();
+  binary.stop();
+  EXPECT_EQ(text_frames, 2500u);
+  EXPECT_EQ(binary_frames, 2500u);
+  expectSameRecording(slurp(base + ".tsv"), blogAsTsv(base + ".blog"),
+                      telemetryColumnsDescribed(joints));
+  std::filesystem::remove(base + ".tsv");
+  std::filesystem::remove(base + ".blog");
 }
 
 /// Delegates to the fake and, at every backend call inside a tick, takes any reply the loop has
