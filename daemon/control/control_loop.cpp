@@ -623,6 +623,7 @@ void ControlLoop::publish() {
   p.truth_non_foot_contact = sensors_.has_truth && sensors_.truth.non_foot_contact;
   p.command = modes_.command();
   for (int c = 0; c < kNumContacts; ++c) p.contacts[c] = input_.state.contact[c];
+  for (int i = 0; i < 3; ++i) p.external_force[i] = input_.state.external_force[i];
   p.mpc_ms = have_plan_ ? plan_.solve_ms : 0.0;
   p.planner_failures = planner_failures_;
   p.position_fixes = position_fixes_;

@@ -55,6 +55,7 @@ bool LoopEstimator::update(const backend::Sensors& sensors, const double* q, con
   }
   status_ = filter_.update(input_, output_);
 
+  for (int i = 0; i < 3; ++i) out.external_force[i] = output_.valid ? output_.externalForce[i] : 0.0;
   BaseState& b = out.base;
   if (settings_->use_truth && sensors.has_truth) {
     const backend::Truth& tr = sensors.truth;

@@ -50,6 +50,9 @@ struct EstimatedState {
   double tau[kMaxJoints] = {};  ///< measured, N·m
   bool contact[kNumContacts] = {};
   double contact_position[kNumContacts][3] = {};  ///< world
+  /// Estimated external force on the robot (a push): horizontal, world, N, zero under
+  /// estimator.external_force_deadband (estimation/external_force_observer.hpp).
+  double external_force[3] = {};
 };
 
 /// What the operator asks of the base: a velocity (walking) and a standing pose.
@@ -163,6 +166,7 @@ struct LoopStatus {
   bool truth_non_foot_contact = false;
   BaseCommand command;
   bool contacts[kNumContacts] = {};
+  double external_force[3] = {};  ///< estimated push, world, N (EstimatedState::external_force)
   double mpc_ms = 0.0;      ///< last planner solve
   double wbc_ms = 0.0;      ///< last controller computation (plan sampling + WBC, or standing)
   double wbc_ms_max = 0.0;  ///< since start

@@ -64,6 +64,10 @@ struct EstimatorSettings {
   /// Fraction of the threshold below which a confirmed contact is released (hysteresis).
   double contactForceRelease;
   double contactForceBandwidth;  ///< 1/s, the momentum observer's gain (time constant 1/K)
+  /// External force (external_force_observer.hpp, same kind of observer): horizontal forces
+  /// under this read as none (model errors), larger ones are reported less this.
+  double externalForceDeadband;   ///< N
+  double externalForceBandwidth;  ///< 1/s, its observer's gain (time constant 1/K)
 };
 
 /// No problem if the settings fit the model and the filters; otherwise the field at fault and

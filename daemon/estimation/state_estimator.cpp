@@ -73,6 +73,7 @@ void StateEstimator::reset(double x, double y) {
   started_ = false;
   attitude_ = AttitudeFilter();
   observer_.reset();
+  external_.reset();
   confirmed_.fill(false);
   stance_.fill(false);
 }
@@ -181,6 +182,14 @@ EstimatorStatus StateEstimator::update(const EstimatorInput& in, EstimatorOutput
 
   // 3. Contact: the schedule, confirmed by the estimated normal force on the point's foot.
   observer_.update(data_, v_, in.tau, dt, s.contactForceBandwidth);
+  {
+    // The robot's linear momentum: (M v)[0:3] is it in base axes.
+    Vector3d forces = Vector3d::Zero();
+    for (int c = 0; c < kContactPoints; ++c) forces += observer_.force(c);
+    const Vector3d momentum = Rwb * (data_.M.topRows<3>() * v_);
+    external_.update(momentum, forces, model_.totalMass() * model_.gravity, dt,
+                     s.externalForceBandwidth);
+  }
   bool anyStance = false;
   for (int c = 0; c < kContactPoints; ++c) {
     const double fz = observer_.footForce(c).z();
@@ -244,6 +253,8 @@ EstimatorStatus StateEstimator::update(const EstimatorInput& in, EstimatorOutput
     out.slipping[c] = slipping[c];
     out.contactForce[c] = observer_.force(c);
   }
+  out.externalForce = external_.horizontal(s.externalForceDeadband);
+  out.externalForceRaw = external_.raw();
   out.gyroBias = attitude_.gyroBias();
   out.covarianceDiagonal = filter_.covariance().diagonal();
   out.orientationVariance = attitude_.covariance().diagonal().head<3>();

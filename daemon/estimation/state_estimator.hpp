@@ -11,7 +11,9 @@
 //   3. contact                    stance_i = scheduled_i (the planner's) and, with
 //                                 contactForceCheck, the estimated normal force over the
 //                                 threshold (hysteresis down to release·threshold); forces from
-//                                 the joint torques by a momentum observer (contact_force_observer.hpp)
+//                                 the joint torques by a momentum observer (contact_force_observer.hpp);
+//                                 the external force from the robot's linear momentum and those
+//                                 forces (external_force_observer.hpp)
 //   4. predict                    BaseKalmanFilter with a = R·f + g (the IMU's specific force in
 //                                 the world, gravity removed)
 //   5. correct                    stance points: c_i − p = d_i, v = −ḋ_i, c_i,z = terrain height;
@@ -45,6 +47,7 @@
 #include "estimation/attitude_filter.hpp"
 #include "estimation/base_kalman_filter.hpp"
 #include "estimation/contact_force_observer.hpp"
+#include "estimation/external_force_observer.hpp"
 #include "estimation/settings.hpp"
 #include "model/data.hpp"
 
@@ -83,6 +86,10 @@ struct EstimatorOutput {
   std::array<bool, kContactPoints> stance{};
   std::array<bool, kContactPoints> slipping{};  ///< stance by step 3 but rejected by the gate
   std::array<Eigen::Vector3d, kContactPoints> contactForce{};     ///< on the robot, world, N
+  /// External force on the robot (a push), world, N: horizontal, beyond the deadband
+  /// (external_force_observer.hpp); externalForceRaw: all of it, before the deadband.
+  Eigen::Vector3d externalForce = Eigen::Vector3d::Zero();
+  Eigen::Vector3d externalForceRaw = Eigen::Vector3d::Zero();
   Eigen::Vector3d gyroBias = Eigen::Vector3d::Zero();             ///< IMU frame, rad/s
   /// Variances of the filter state [p, v, c_1 … c_4] (the IMU's point; m², (m/s)²).
   BaseKalmanFilter::Vector covarianceDiagonal = BaseKalmanFilter::Vector::Zero();
@@ -142,6 +149,7 @@ class StateEstimator {
   AttitudeFilter attitude_;
   BaseKalmanFilter filter_;
   ContactForceObserver observer_;
+  ExternalForceObserver external_;
 
   model::Data<double> data_;
   Eigen::VectorXd q_, v_;  // model configuration and velocity (base at the origin)

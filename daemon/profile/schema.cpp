@@ -198,6 +198,8 @@ const Schema<Settings> kTable({
   number("estimator.contact_force_threshold", "30", 0, 1e4, "N", "estimated normal force on the foot (all its contact points) that confirms a scheduled contact").into<&S::control, &C::estimator, &E::contactForceThreshold>(),
   number("estimator.contact_force_release", "0.5", 0, 1, "", "fraction of the threshold below which a confirmed contact is released").into<&S::control, &C::estimator, &E::contactForceRelease>(),
   number("estimator.contact_force_bandwidth", "50", 0.1, 1e4, "1/s", "gain of the momentum observer that estimates the contact forces").into<&S::control, &C::estimator, &E::contactForceBandwidth>(),
+  number("estimator.external_force_bandwidth", "10", 0.1, 1e4, "1/s", "gain of the momentum observer that estimates the external force (a push): its time constant is the inverse").into<&S::control, &C::estimator, &E::externalForceBandwidth>(),
+  number("estimator.external_force_deadband", "10", 0.0, 1e4, "N", "a horizontal external force (a push) estimated under this reads as none; larger ones less this").into<&S::control, &C::estimator, &E::externalForceDeadband>(),
   flag("estimator.position_fix", "true", "fuse the backend's position fixes (a localisation source: lidar against the map, motion capture) into the base position, when it has them").into<&S::control, &C::use_position_fix>(),
   flag("estimator.contact_force_check", "true", "a scheduled contact counts only once the estimated normal force confirms it (estimator.contact_force_threshold)").into<&S::control, &C::estimator, &E::contactForceCheck>(),
 

@@ -48,6 +48,7 @@ json statusJson(const control::LoopStatus& s, const StatusExtras& x, bool joints
   j["contacts"] = json::array();
   for (bool b : s.contacts) j["contacts"].push_back(b);
   j["contact_frames"] = x.contact_frames;
+  j["external_force"] = {s.external_force[0], s.external_force[1], s.external_force[2]};
   j["timing"] = {{"mpc_ms", s.mpc_ms},
                  {"wbc_ms", s.wbc_ms},
                  {"wbc_ms_max", s.wbc_ms_max},
