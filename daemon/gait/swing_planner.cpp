@@ -1,5 +1,6 @@
 #include "gait/swing_planner.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace ballast::gait {
@@ -23,6 +24,59 @@ Eigen::Vector3d SwingPlanner::keepFeetApart(int contact, const Eigen::Vector3d& 
   return foothold + side * shortfall * Eigen::Vector3d(-sy, cy, 0.0);
 }
 
+double SwingPlanner::omega() const {
+  return pendulumFrequency(params_.comHeight, params_.foothold.gravity);
+}
+
+void SwingPlanner::planSteps(const ContactSchedule& schedule, const GaitState& state,
+                             const VelocityCommand& command, double until) {
+  numSteps_ = 0;
+  for (int foot = 0; foot < 2; ++foot) {
+    const int toe = foot == 0 ? kLeftToe : kRightToe;
+    SwingInterval interval;
+    double from = state.t;
+    for (int n = 0; n < kMaxSwings && schedule.swingAround(toe, from, until, interval); ++n) {
+      Step& step = steps_[numSteps_++];
+      step = Step{};
+      step.left = foot == 0;
+      step.liftOff = interval.liftOff;
+      step.touchDown = interval.touchDown;
+      const bool started = interval.liftOff <= state.t;
+      const double progress = (state.t - interval.liftOff) / (interval.touchDown - interval.liftOff);
+      for (int i = 0; i < count_[toe]; ++i)
+        if (std::abs(swings_[toe][i].liftOff - interval.liftOff) < 1e-6 && started &&
+            progress > params_.replanUntil) {
+          step.fixed = true;
+          step.foothold = swings_[toe][i].foothold;
+        }
+      from = interval.touchDown + 1e-6;
+    }
+  }
+  std::sort(steps_.begin(), steps_.begin() + numSteps_,
+            [](const Step& a, const Step& b) { return a.touchDown < b.touchDown; });
+  if (numSteps_ == 0) return;
+  const double w = omega();
+  CaptureStepInput in;
+  in.t = state.t;
+  in.omega = w;
+  in.capturePoint = capturePoint(state.com.head<2>(), state.comVelocity.head<2>(), w);
+  in.forceOffset = forceOffset(state.externalForce.head<2>(), state.mass, w);
+  const auto& p = state.contactPositions;
+  in.leftFoot = 0.5 * (p[kLeftToe] + p[kLeftHeel]).head<2>();
+  in.rightFoot = 0.5 * (p[kRightToe] + p[kRightHeel]).head<2>();
+  in.yaw = state.base.yaw;
+  in.yawRate = command.yawRate;
+  in.velocity = Eigen::Vector2d(command.vx, command.vy);
+  const auto& o = nominalOffsets_;
+  in.width = 0.5 * (o[kLeftToe] + o[kLeftHeel] - o[kRightToe] - o[kRightHeel]).y();
+  const Gait& walkGait = schedule.gaitAt(steps_[0].touchDown - 1e-6);
+  in.stepTime = 0.5 * walkGait.period;
+  in.doubleSupportTime = in.stepTime - walkGait.swingDuration();
+  in.limits = params_.limits;
+  in.limits.minWidth = params_.minFeetDistance;
+  captureFootholds(in, steps_.data(), numSteps_);
+}
+
 void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& state,
                           const VelocityCommand& command, double horizon,
                           const TerrainQuery& terrain) {
@@ -30,6 +84,8 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
   const double cy = std::cos(state.base.yaw), sy = std::sin(state.base.yaw);
   const Eigen::Vector3d vDesired(cy * command.vx - sy * command.vy, sy * command.vx + cy * command.vy,
                                  0.0);
+  const bool capture = params_.rule == FootholdRule::kCapturePoint;
+  if (capture) planSteps(schedule, state, command, until);
   for (int c = 0; c < kNumContacts; ++c) {
     std::array<SwingTrajectory, kMaxSwings> previous = swings_[c];
     const int previousCount = count_[c];
@@ -53,6 +109,29 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
       const double progress = (state.t - s.liftOff) / (s.touchDown - s.liftOff);
       if (kept && started && progress > params_.replanUntil) {
         s.touchDownPosition = kept->touchDownPosition;
+        s.foothold = kept->foothold;
+        s.moveFrom = kept->moveFrom;
+        s.movePosition = kept->movePosition;
+        s.moveVelocity = kept->moveVelocity;
+      } else if (capture) {
+        // The foot's foothold from step adjustment; this point's place on the foot.
+        const Step* step = nullptr;
+        for (int k = 0; k < numSteps_; ++k)
+          if (steps_[k].left == isLeft(c) &&
+              (!step || std::abs(steps_[k].touchDown - s.touchDown) <
+                            std::abs(step->touchDown - s.touchDown)))
+            step = &steps_[k];
+        const Eigen::Vector3d centre =
+            0.5 * (nominalOffsets_[isLeft(c) ? kLeftToe : kRightToe] +
+                   nominalOffsets_[isLeft(c) ? kLeftHeel : kRightHeel]);
+        const Eigen::Vector3d local = nominalOffsets_[c] - centre;
+        const double yaw = state.base.yaw + command.yawRate * (s.touchDown - state.t);
+        const double cy = std::cos(yaw), sy = std::sin(yaw);
+        s.foothold = step ? step->foothold : Eigen::Vector2d(s.liftOffPosition.head<2>());
+        Eigen::Vector3d p(s.foothold.x() + cy * local.x() - sy * local.y(),
+                          s.foothold.y() + sy * local.x() + cy * local.y(), 0.0);
+        p.z() = terrain.height(p.x(), p.y());
+        s.touchDownPosition = p;
       } else {
         const PlanarPose base = state.base.predicted(command, s.touchDown - state.t);
         const double stance = schedule.gaitAt(s.touchDown).stanceDuration();
@@ -61,6 +140,16 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
         p = keepFeetApart(c, p, base.yaw, state);
         p.z() = terrain.height(p.x(), p.y());
         s.touchDownPosition = p;
+      }
+      // A swing re-aimed on its way moves on from where its reference is now (capture point
+      // rule; the paper's swings keep their one cubic from lift-off).
+      if (capture && kept && started && !(progress > params_.replanUntil) &&
+          state.t > kept->moveStart()) {
+        const PointReference now = kept->at(state.t);
+        s.moveFrom = state.t;
+        s.movePosition = now.position;
+        s.moveVelocity = now.velocity;
+        s.movePosition.z() = s.moveVelocity.z() = 0.0;
       }
       s.apexHeight = terrain.maxHeightAlong(s.liftOffPosition.x(), s.liftOffPosition.y(),
                                             s.touchDownPosition.x(), s.touchDownPosition.y());

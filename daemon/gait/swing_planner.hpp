@@ -2,12 +2,20 @@
 //
 // Each update (at the planner's rate) walks the contact schedule over [t, t + horizon] and, for
 // every swing in it, sets lift-off where the point is (or where its previous swing in the
-// horizon lands), touch-down by the paper's foothold equation (footholds.hpp) at the predicted
-// base pose, and the apex `apexClearance` above the highest terrain between them. A swing in
-// progress keeps its lift-off and re-aims its touch-down until `replanUntil` of its duration,
-// then holds it, so late corrections do not jerk the foot. Left footholds are kept at least
-// `minFeetDistance` left of the right foot's (and vice versa) in the heading frame: the paper's
-// foot-collision constraint (eq. collsion), enforced where footholds are chosen.
+// horizon lands), touch-down by the foothold rule, and the apex `apexClearance` above the
+// highest terrain between them. Foothold rules:
+//   kPaper         the paper's eq. (desired_swing_traj) (footholds.hpp) at the predicted base
+//                  pose, per contact point, from the measured base velocity;
+//   kCapturePoint  step adjustment (step_adjustment.hpp): the feet's footholds in touch-down
+//                  order from the capture point of the measured centre of mass (and an
+//                  external force's offset), within the reach of each step; each contact point
+//                  then sits at its place on its foot, turned to the heading at touch-down.
+// A swing in progress keeps its lift-off and re-aims its touch-down until `replanUntil` of its
+// duration, then holds it; a re-aimed swing moves on from where its reference is (a cubic from
+// its position and velocity then, swing_trajectory.hpp), so the foot never jumps. Left footholds
+// are kept at least `minFeetDistance` left of the right foot's (and vice versa) in the heading
+// frame: the paper's foot-collision constraint (eq. collsion), enforced where footholds are
+// chosen.
 #pragma once
 
 #include <array>
@@ -15,9 +23,12 @@
 #include "gait/contact.hpp"
 #include "gait/contact_schedule.hpp"
 #include "gait/footholds.hpp"
+#include "gait/step_adjustment.hpp"
 #include "gait/swing_trajectory.hpp"
 
 namespace ballast::gait {
+
+enum class FootholdRule { kPaper, kCapturePoint };
 
 /// Filled by the profile (gait.*: defaults and bounds in daemon/profile/schema.cpp).
 struct SwingPlannerParameters {
@@ -28,7 +39,10 @@ struct SwingPlannerParameters {
   double stepLift;
   double replanUntil;      ///< fraction of a swing after which its touch-down is held
   double minFeetDistance;  ///< m, lateral, between left and right contact points
-  FootholdParameters foothold;
+  FootholdParameters foothold;  ///< kPaper
+  FootholdRule rule;            ///< gait.footholds
+  StepLimits limits;            ///< kCapturePoint (minWidth: minFeetDistance)
+  double comHeight = 0.8;       ///< kCapturePoint: the pendulum's height, m (ω = sqrt(g/h)), set by the planner
 };
 
 /// What the planner needs to know about the robot now.
@@ -37,6 +51,10 @@ struct GaitState {
   PlanarPose base;                              ///< base position (world) and yaw
   Eigen::Vector3d baseVelocity = Eigen::Vector3d::Zero();  ///< world
   std::array<Eigen::Vector3d, kNumContacts> contactPositions{};  ///< world
+  Eigen::Vector3d com = Eigen::Vector3d::Zero();                 ///< world
+  Eigen::Vector3d comVelocity = Eigen::Vector3d::Zero();         ///< world
+  Eigen::Vector3d externalForce = Eigen::Vector3d::Zero();       ///< estimated, world, N
+  double mass = 1.0;                                             ///< kg
 };
 
 class SwingPlanner {
@@ -55,12 +73,24 @@ class SwingPlanner {
   const SwingTrajectory* swingAt(int contact, double t) const;
   /// Swing reference, or the held stance position (zero velocity) when t is in a stance.
   PointReference reference(int contact, double t) const;
+  /// The swings of `contact` in the last update's horizon, in time order.
+  int swingCount(int contact) const { return count_[contact]; }
+  const SwingTrajectory& swing(int contact, int i) const { return swings_[contact][i]; }
+  /// Capture point rule: ω of the pendulum.
+  double omega() const;
   const SwingPlannerParameters& parameters() const { return params_; }
   void setParameters(const SwingPlannerParameters& p) { params_ = p; }
 
  private:
   Eigen::Vector3d keepFeetApart(int contact, const Eigen::Vector3d& foothold, double yaw,
                                 const GaitState& state) const;
+  /// Capture point rule: steps_[0..numSteps_) and their footholds for this update.
+  void planSteps(const ContactSchedule& schedule, const GaitState& state,
+                 const VelocityCommand& command, double until);
+
+  static constexpr int kMaxSteps = 2 * kMaxSwings;
+  std::array<Step, kMaxSteps> steps_{};
+  int numSteps_ = 0;
 
   SwingPlannerParameters params_;
   std::array<Eigen::Vector3d, kNumContacts> nominalOffsets_;

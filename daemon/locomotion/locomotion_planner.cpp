@@ -69,10 +69,15 @@ LocomotionPlanner::LocomotionPlanner(const model::Model& model, const Locomotion
   Eigen::VectorXd q = model::neutralConfiguration(model);
   q.tail(model.nj()) = settings_.nominalJoints;
   model::forwardKinematics(model, data_, q);
+  double sole = 0.0;
   for (int c = 0; c < kNumContacts; ++c) {
     stance_[c] = model::framePlacement(model, data_, frames_[c]).p;
+    sole += stance_[c].z() / kNumContacts;
     stance_[c].z() = 0.0;
   }
+  // The pendulum of the capture point: the centre of mass above the soles in the nominal posture.
+  model::compositeWorldInertias(model, data_);
+  settings_.swing.comHeight = data_.com.z() - sole;
   swings_ = gait::SwingPlanner(settings_.swing, stance_);
   problem_ = std::make_unique<mpc::KinodynamicProblem>(model, frames_, settings_.problem);
   sqp_ = std::make_unique<mpc::SqpSolver>(*problem_, settings_.sqp);
@@ -135,6 +140,10 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
   gait::GaitState gaitState;
   gaitState.t = t;
   gaitState.baseVelocity = baseVelocity;
+  gaitState.com = data_.com;
+  gaitState.comVelocity = data_.hg.head<3>() / model_.totalMass();
+  gaitState.mass = model_.totalMass();
+  gaitState.externalForce = externalForce_;
   for (int c = 0; c < kNumContacts; ++c)
     gaitState.contactPositions[c] = model::framePlacement(model_, data_, frames_[c]).p;
   const gait::PlanarPose start =
@@ -267,6 +276,11 @@ void LocomotionPlanner::fillReferences(double t, const gait::PlanarPose& start,
     r.x.segment(L.kJoints, model_.nj()) =
         !command.walk && command.standingJoints.size() == model_.nj() ? command.standingJoints
                                                                        : settings_.nominalJoints;
+    // The push in the dynamics goes with the capture point's footholds: with the paper's, the
+    // estimate's model errors (10-20 N walking at 1 m/s) made walking fall.
+    r.externalForce = settings_.swing.rule == gait::FootholdRule::kCapturePoint
+                          ? externalForce_
+                          : Eigen::Vector3d::Zero();
     r.u.setZero();
     for (int c = 0; c < kNumContacts; ++c)
       if (flags[c] && stanceCount > 0) r.u[L.force(c) + 2] = m * g / stanceCount;

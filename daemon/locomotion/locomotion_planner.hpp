@@ -107,6 +107,10 @@ class LocomotionPlanner {
   bool update(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
               const LocomotionCommand& command, Plan& plan);
 
+  /// The estimated external force on the robot (world, N) for the next update()s: the footholds
+  /// lean into it (gait/step_adjustment.hpp).
+  void setExternalForce(const Eigen::Vector3d& force) { externalForce_ = force; }
+
   const mpc::SqpStatistics& statistics() const { return sqp_->statistics(); }
   const LocomotionSettings& settings() const { return settings_; }
   /// The contact points' positions in the nominal stance, relative to the base (heading frame).
@@ -146,6 +150,7 @@ class LocomotionPlanner {
   double walkStartsAt_ = 0.0;       ///< when the last start from standing takes its first step
   bool accelerating_ = false;       ///< velocity_ is still slewing towards the operator's
   double lastCommandedMotion_ = -1e9;  ///< last time velocity_ was not zero
+  Eigen::Vector3d externalForce_ = Eigen::Vector3d::Zero();
 };
 
 /// Reads a Plan at the controller's rate (owns its scratch: one per reading thread).

@@ -86,6 +86,7 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
     ws.dPosition_du[c].setZero();
     ws.dPosition_du[c].middleCols(L.jointVelocity(), nj) = half * k.dPosition_dx.middleCols(L.kJoints, nj);
   }
+  ws.xdot.head<3>() += ref.externalForce;  // constant: no derivative
   value.xdot = ws.xdot;
 
   // Equalities: contact-point velocities (5 per foot) and swing forces.

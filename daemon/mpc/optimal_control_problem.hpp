@@ -21,6 +21,9 @@ struct NodeReference {
   std::array<Eigen::Vector3d, kNumContacts> swingPosition{};  ///< p*(t), swing points only
   std::array<Eigen::Vector3d, kNumContacts> swingVelocity{};  ///< ṗ*(t)
   Eigen::VectorXd x, u;  ///< x_ref, u_ref
+  /// A known external force on the robot at its centre of mass (world, N): a push the state
+  /// estimator sees, taken to go on over the horizon. It adds to the rate of linear momentum.
+  Eigen::Vector3d externalForce = Eigen::Vector3d::Zero();
 };
 
 /// A node's nonlinear value, for the line search.

@@ -39,6 +39,12 @@ void toBarrier(mpc::RelaxedBarrier& b, const Value& v) {
   b.delta = v.numbers[1];
 }
 
+/// [ahead, behind] -> the step limits' reach along the heading.
+void toStepLength(gait::StepLimits& l, const Value& v) {
+  l.maxForward = v.numbers[0];
+  l.maxBackward = v.numbers[1];
+}
+
 /// "[left_toe, left_heel, right_toe, right_heel]": the humanoid's frames, named in one place.
 std::string contactFramesDefault() {
   std::string list;
@@ -83,7 +89,10 @@ const Schema<Settings> kTable({
   number("gait.double_support", "0.2", 0, 0.8, "", "fraction of the cycle with both feet on the ground").into<&S::control, &C::locomotion, &L::walkGait, &G::doubleSupport>(),
   number("gait.toe_off_lead", "0", 0, 0.5, "s", "toe-off and heel-strike: a heel lifts and lands this much before its toe (0: together)").into<&S::control, &C::locomotion, &L::walkGait, &G::toeOffLead>(),
   number("gait.swing_apex", "0.08", 0.01, 0.3, "m", "swing-foot clearance at mid-swing, above the terrain").into<&S::control, &C::locomotion, &L::swing, &SW::apexClearance>(),
-  number("gait.foothold_gain", "0.15", 0, 1, "", "k of the foothold rule hip + T/2 v_des + k (v - v_des)").into<&S::control, &C::locomotion, &L::swing, &SW::foothold, &F::feedbackGain>(),
+  choice("gait.footholds", "paper", "paper|capture_point", "foothold rule: the paper's hip + T/2 v_des + k (v - v_des), or step adjustment from the capture point of the measured centre of mass with the estimated push in the MPC's dynamics (daemon/gait/step_adjustment.hpp; experimental)").into<&S::control, &C::locomotion, &L::swing, &SW::rule>(),
+  number("gait.foothold_gain", "0.15", 0, 1, "", "gait.footholds paper: k of the foothold rule hip + T/2 v_des + k (v - v_des)").into<&S::control, &C::locomotion, &L::swing, &SW::foothold, &F::feedbackGain>(),
+  numbers("gait.max_step_length", "[0.5, 0.35]", 0, 2, "m", "gait.footholds capture_point: farthest a foot lands [ahead of, behind] the stance foot").ofLength(2).into<&S::control, &C::locomotion, &L::swing, &SW::limits>(&toStepLength),
+  number("gait.max_step_width", "0.45", 0, 2, "m", "gait.footholds capture_point: farthest a foot lands sideways from the stance foot (the closest: gait.min_foot_distance)").into<&S::control, &C::locomotion, &L::swing, &SW::limits, &gait::StepLimits::maxWidth>(),
   number("gait.step_height", "0.03", 0, 1, "m", "a swing over terrain that rises or falls more than this is a step: the foot lifts before it moves and moves before it lands").into<&S::control, &C::locomotion, &L::swing, &SW::stepHeight>(),
   number("gait.step_lift", "0.2", 0, 0.45, "", "stepping: fraction of the swing at each end spent lifting (lowering) without moving horizontally").into<&S::control, &C::locomotion, &L::swing, &SW::stepLift>(),
   number("gait.replan_until", "0.7", 0, 1, "", "fraction of a swing after which its touch-down point is held").into<&S::control, &C::locomotion, &L::swing, &SW::replanUntil>(),

@@ -1,0 +1,118 @@
+#include "test/integration/daemon_stack/push_trial.hpp"
+
+#include <cmath>
+#include <cstring>
+#include <deque>
+#include <stdexcept>
+
+#include "test/integration/daemon_stack/daemon_stack.hpp"
+
+namespace ballast::test {
+namespace {
+
+void traceLine(std::FILE* out, const control::LoopStatus& s, bool pushing) {
+  const control::BaseState& b = s.truth;
+  std::fprintf(out,
+               "%7.3f %-8s %s x %7.3f y %7.3f z %5.3f  vx %6.3f vy %6.3f  roll %6.3f pitch %6.3f "
+               "yaw %6.3f  feet %d%d%d%d  f %6.1f %6.1f\n",
+               s.t, control::modeName(s.mode), pushing ? "PUSH" : "    ", b.position[0],
+               b.position[1], b.position[2], b.linear_velocity[0], b.linear_velocity[1], b.rpy[0],
+               b.rpy[1], b.rpy[2], s.contacts[0], s.contacts[1], s.contacts[2], s.contacts[3],
+               s.external_force[0], s.external_force[1]);
+}
+
+}  // namespace
+
+PushOutcome runPushTrial(const PushTrial& trial) {
+  DaemonStack robot(trial.profile);
+  if (!robot.waitForMode(control::Mode::kStand, 5.0))
+    throw std::runtime_error("the robot did not stand up");
+  if (!robot.run(0.5)) throw std::runtime_error("the robot fell standing");
+  const bool walking = trial.speed != 0.0;
+  const double period = robot.settings().locomotion.walkGait.period;
+  if (walking) {
+    if (robot.walk(trial.speed) != control::Refusal::kNone)
+      throw std::runtime_error("walk refused");
+  }
+  const double t0 = robot.t();
+  PushOutcome out;
+  char line[512];
+  auto fell = [&](const char* when) {
+    const control::LoopStatus s = robot.status();
+    std::snprintf(line, sizeof line, "fell %s at t %.2f s (%.2f s after the push began)%s%s", when,
+                  s.t, s.t - (t0 + trial.walkBefore + trial.phase * period),
+                  s.faults.size > 0 ? ": " : "", s.faults.size > 0 ? s.faults.fault[0].message : "");
+    out.message = line;
+    out.survived = false;
+    return out;
+  };
+  // Up to the push, tracing as we go.
+  const double pushAt = t0 + (walking ? trial.walkBefore + trial.phase * period : 1.0);
+  while (robot.t() < pushAt - 1e-9) {
+    if (!robot.run(std::min(0.02, pushAt - robot.t()))) return fell("before the push");
+    if (trial.trace) traceLine(trial.trace, robot.status(), false);
+  }
+  const double yaw = robot.status().truth.rpy[2];
+  const double a = trial.directionDeg * M_PI / 180.0 + yaw;
+  if (robot.push(trial.body.c_str(), trial.force * std::cos(a), trial.force * std::sin(a), 0.0,
+                 trial.duration) != control::Refusal::kNone)
+    throw std::runtime_error("push refused");
+  const double pushStart = robot.t(), pushEnd = pushStart + trial.duration;
+  const double end = pushEnd + trial.after;
+  // Watch: every 20 ms the status; velocity over the last gait cycle from positions.
+  struct Sample {
+    double t, x, y;
+  };
+  std::deque<Sample> window;
+  bool lastContact[2] = {true, true};
+  double backInStand = -1.0, velocityBack = -1.0;
+  while (robot.t() < end - 1e-9) {
+    if (!robot.run(std::min(0.02, end - robot.t()))) return fell("after the push");
+    const control::LoopStatus s = robot.status();
+    if (trial.trace) traceLine(trial.trace, s, s.t < pushEnd);
+    for (int foot = 0; foot < 2; ++foot) {
+      const bool down = s.contacts[2 * foot];
+      if (down && !lastContact[foot]) ++out.touchDowns;
+      lastContact[foot] = down;
+    }
+    if (!walking) {
+      const bool stand = s.mode == control::Mode::kStand;
+      if (!stand) out.leftStand = true;
+      if (stand && backInStand < 0.0 && s.t >= pushEnd) backInStand = s.t - pushEnd;
+      if (!stand) backInStand = -1.0;
+      continue;
+    }
+    window.push_back({s.t, s.truth.position[0], s.truth.position[1]});
+    while (window.size() > 1 && window.front().t < s.t - period - 1e-6) window.pop_front();
+    if (s.t < pushEnd + period - 1e-6 || window.front().t > s.t - period + 0.03) continue;
+    const double dt = s.t - window.front().t;
+    const double vx = (s.truth.position[0] - window.front().x) / dt;
+    const double vy = (s.truth.position[1] - window.front().y) / dt;
+    const double c = std::cos(yaw), sn = std::sin(yaw);
+    const double forward = c * vx + sn * vy, lateral = -sn * vx + c * vy;
+    const bool back = std::abs(forward - trial.speed) <= 0.1 && std::abs(lateral) <= 0.1;
+    if (back && velocityBack < 0.0) velocityBack = s.t - pushEnd;
+    if (!back) velocityBack = -1.0;
+  }
+  const control::LoopStatus s = robot.status();
+  if (walking) {
+    out.recoveryTime = velocityBack;
+    out.survived = s.mode == control::Mode::kWalk;
+    std::snprintf(line, sizeof line, "%s; velocity back %s%.2f s after the push",
+                  out.survived ? "walking" : control::modeName(s.mode),
+                  velocityBack < 0 ? "never (" : "", velocityBack < 0 ? trial.after : velocityBack);
+    out.message = line;
+    if (velocityBack < 0) out.message += ")";
+  } else {
+    out.recoveryTime = backInStand;
+    out.survived = s.mode == control::Mode::kStand;
+    std::snprintf(line, sizeof line, "%s, %d touch-downs, %s%.2f s after the push",
+                  control::modeName(s.mode), out.touchDowns,
+                  out.leftStand ? "back in stand " : "never left stand; ",
+                  backInStand < 0 ? -1.0 : backInStand);
+    out.message = line;
+  }
+  return out;
+}
+
+}  // namespace ballast::test
