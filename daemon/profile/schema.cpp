@@ -90,7 +90,7 @@ const Schema<Settings> kTable({
   number("gait.toe_off_lead", "0", 0, 0.5, "s", "toe-off and heel-strike: a heel lifts and lands this much before its toe (0: together)").into<&S::control, &C::locomotion, &L::walkGait, &G::toeOffLead>(),
   number("gait.swing_apex", "0.08", 0.01, 0.3, "m", "swing-foot clearance at mid-swing, above the terrain").into<&S::control, &C::locomotion, &L::swing, &SW::apexClearance>(),
   choice("gait.footholds", "paper", "paper|capture_point", "foothold rule: the paper's hip + T/2 v_des + k (v - v_des), or step adjustment from the capture point of the measured centre of mass with the estimated push in the MPC's dynamics (daemon/gait/step_adjustment.hpp; experimental)").into<&S::control, &C::locomotion, &L::swing, &SW::rule>(),
-  number("gait.foothold_gain", "0.15", 0, 1, "", "gait.footholds paper: k of the foothold rule hip + T/2 v_des + k (v - v_des)").into<&S::control, &C::locomotion, &L::swing, &SW::foothold, &F::feedbackGain>(),
+  number("gait.foothold_gain", "0.15", 0, 1, "", "gait.footholds paper: k of the foothold rule hip + T/2 v_des + k (v - v_des), v the centre of mass's velocity").into<&S::control, &C::locomotion, &L::swing, &SW::foothold, &F::feedbackGain>(),
   numbers("gait.max_step_length", "[0.5, 0.35]", 0, 2, "m", "gait.footholds capture_point: farthest a foot lands [ahead of, behind] the stance foot").ofLength(2).into<&S::control, &C::locomotion, &L::swing, &SW::limits>(&toStepLength),
   number("gait.max_step_width", "0.45", 0, 2, "m", "gait.footholds capture_point: farthest a foot lands sideways from the stance foot (the closest: gait.min_foot_distance)").into<&S::control, &C::locomotion, &L::swing, &SW::limits, &gait::StepLimits::maxWidth>(),
   number("gait.step_height", "0.03", 0, 1, "m", "a swing over terrain that rises or falls more than this is a step: the foot lifts before it moves and moves before it lands").into<&S::control, &C::locomotion, &L::swing, &SW::stepHeight>(),
@@ -100,7 +100,7 @@ const Schema<Settings> kTable({
   // With none, the first swing left 80 ms after the command, over a centre of mass still between
   // the feet, and the robot fell sideways into its first step.
   number("gait.walk_start_delay", "0.3", 0, 2, "s", "walking from standing starts this much after the command: the weight shifts onto the first stance foot meanwhile").into<&S::control, &C::locomotion, &L::walkStartDelay>(),
-  number("gait.stop_delay", "0.4", 0, 2, "s", "stepping goes on this long after the commanded velocity reached zero").into<&S::control, &C::locomotion, &L::stopDelay>(),
+  number("gait.stop_delay", "0.1", 0, 2, "s", "stepping goes on this long after the commanded velocity reached zero (then the feet come together at the next double support)").into<&S::control, &C::locomotion, &L::stopDelay>(),
   number("gait.foothold_lead", "0.05", 0, 0.5, "m", "footholds are planned from the measured base moved toward the commanded one by at most this").into<&S::control, &C::locomotion, &L::footholdLead>(),
 
   // ---- planner: the kino-dynamic MPC (daemon/mpc, daemon/locomotion)

@@ -250,7 +250,7 @@ TEST_F(SwingPlannerTest, WalkingForwardChainsSwingsAndStepsAhead) {
   const ContactSchedule schedule(walk(0.8, 0.2), 0.0);
   SwingPlanner planner(defaults(), offsets);
   GaitState s = state();
-  s.baseVelocity = {0.5, 0, 0};
+  s.baseVelocity = s.comVelocity = Eigen::Vector3d{0.5, 0, 0};
   const VelocityCommand cmd{0.5, 0, 0};
   planner.update(schedule, s, cmd, 1.0, FlatTerrain());
   const SwingTrajectory* first = planner.swingAt(kLeftToe, 0.2);
@@ -272,7 +272,7 @@ TEST_F(SwingPlannerTest, ApexClearsTheTerrainAndFootholdsSitOnIt) {
   SwingPlanner planner(defaults(), offsets);
   GaitState s = state();
   s.base.position.x() = 0.3;
-  s.baseVelocity = {0.6, 0, 0};
+  s.baseVelocity = s.comVelocity = Eigen::Vector3d{0.6, 0, 0};
   planner.update(schedule, s, VelocityCommand{0.6, 0, 0}, 1.0, Stage());
   const SwingTrajectory* sw = planner.swingAt(kLeftToe, 0.2);
   ASSERT_NE(sw, nullptr);
@@ -294,7 +294,7 @@ TEST_F(SwingPlannerTest, FeetNeverCrossEvenWhenCommandedSideways) {
   params.minFeetDistance = 0.15;
   SwingPlanner planner(params, offsets);
   GaitState s = state();
-  s.baseVelocity = {0, -0.6, 0};  // moving right fast: the left foot's foothold would cross
+  s.baseVelocity = s.comVelocity = Eigen::Vector3d{0, -0.6, 0};  // moving right fast: the left foot's foothold would cross
   planner.update(schedule, s, VelocityCommand{0, -0.6, 0}, 1.0, FlatTerrain());
   const SwingTrajectory* sw = planner.swingAt(kLeftToe, 0.2);
   ASSERT_NE(sw, nullptr);
