@@ -45,63 +45,33 @@
 #include <vector>
 
 #include "backend_abi.hpp"
-#include "host_delays.hpp"    // plugins/common
 #include "rolling_lidar.hpp"  // plugins/common
 #include "sensor_model.hpp"   // plugins/common
+#include "simulation_backend.hpp"  // plugins/common
 #include "mujoco_settings.hpp"
 #include "mujoco_world.hpp"
-#include "tick_pacer.hpp"     // plugins/common
 
 namespace ballast::mujoco {
 
-class MujocoBackend final : public backend::Backend {
+class MujocoBackend final : public plugin::SimulationBackend<MujocoBackend, MujocoWorld> {
  public:
+  MujocoBackend() : SimulationBackend("mujoco") {}
   bool configure(const backend::Config& config, backend::Error& error) override;
-  const backend::Capabilities& capabilities() const override { return caps_; }
   bool start(backend::Error& error) override;
-  backend::Status read(backend::Sensors& sensors) override;
-  backend::Status write(const backend::Commands& commands) override;
-  backend::Status advance(backend::TickTiming& timing) override;
-  using backend::Backend::advance;
-  const backend::Error& lastError() const override { return lastError_; }
-  void stop() override;
   bool push(const backend::Push& push, backend::Error& error) override;
   bool lidarScan(backend::PointCloudView& scan) override;
 
   // Not part of the ABI: for tests and benchmarks that link the backend directly.
-  MujocoWorld& world() { return *world_; }
   const MujocoSettings& settings() const { return settings_; }
-  std::uint64_t lateTicks() const { return pacer_.lateTicks(); }
-  std::uint64_t ticks() const { return tick_; }
 
  private:
-  backend::Status fault(const char* message);
+  friend class plugin::SimulationBackend<MujocoBackend, MujocoWorld>;  // its per-tick hooks
   void sampleSensors();
   void scanLidar();
 
-  backend::Capabilities caps_;
-  backend::Error lastError_;
   MujocoSettings settings_;
-  std::unique_ptr<MujocoWorld> world_;
   plugin::SensorModel sensors_;
   plugin::RollingLidar lidar_;
-  bool lidarEnabled_ = false;
-  double period_ = 0.001;
-  bool lockstep_ = true;
-  bool started_ = false, faulted_ = false;
-
-  // Commands in flight: slot k % size holds what was written during tick k.
-  struct QueuedCommands {
-    std::int64_t tick = -1;
-    backend::JointCommand joint[backend::kMaxJoints];
-  };
-  std::vector<QueuedCommands> queue_;
-
-  std::uint64_t tick_ = 0;  ///< advances since start()
-  backend::Sensors sample_;
-  std::uint64_t lastReadSequence_ = 0;
-  plugin::TickPacer pacer_;
-  plugin::HostDelays host_;
 };
 
 }  // namespace ballast::mujoco

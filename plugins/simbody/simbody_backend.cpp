@@ -11,10 +11,6 @@
 namespace ballast::simbody {
 namespace {
 
-using backend::Status;
-
-/// Share of each real-time period the simulation may take before its world waits.
-constexpr double kSimulationShare = 0.5;
 
 bool readable(const std::string& path) { return access(path.c_str(), R_OK) == 0; }
 
@@ -94,7 +90,7 @@ bool SimbodyBackend::configure(const backend::Config& config, backend::Error& er
     if (lidarEnabled_) lidar_.configure(lidarSettings(settings_), config.seed);
     host_.configure(settings_.host_stall_at, settings_.host_stall, settings_.host_jitter_from,
                     settings_.host_jitter_fraction, settings_.host_jitter, config.seed);
-    queue_.assign(static_cast<std::size_t>(settings_.motor_latency_ticks + 1), QueuedCommands{});
+    configureCommands(settings_.motor_latency_ticks);
   } catch (const std::exception& e) {
     world_.reset();
     copyMessage(error, e.what());
@@ -122,24 +118,15 @@ bool SimbodyBackend::start(backend::Error& error) {
     copyMessage(error, "simbody: start failed with an unknown exception");
     return false;
   }
-  for (QueuedCommands& q : queue_) q.tick = -1;
-  tick_ = 0;
-  pacer_ = plugin::TickPacer{};
+  restartTicks();
   sensors_.start();
   if (lidarEnabled_) lidar_.start(0.0);
-  sample_ = backend::Sensors{};
-  lastReadSequence_ = 0;
   sampleSensors();
   started_ = true;
   faulted_ = false;
   copyMessage(lastError_, "");
   copyMessage(error, "");
   return true;
-}
-
-backend::Status SimbodyBackend::fault(const char* message) {
-  copyMessage(lastError_, message);
-  return Status::kFault;
 }
 
 void SimbodyBackend::sampleSensors() {
@@ -175,93 +162,6 @@ void SimbodyBackend::scanLidar() {
                 return terrain.castRay(SimTK::Vec3(o[0], o[1], o[2]),
                                        SimTK::Vec3(d[0], d[1], d[2]), maxRange, range);
               });
-}
-
-backend::Status SimbodyBackend::read(backend::Sensors& sensors) {
-  if (!started_) return fault("simbody: read() on a backend that is not started");
-  if (faulted_) return Status::kFault;
-  sensors = sample_;
-  if (sample_.sequence == lastReadSequence_) return Status::kStale;
-  lastReadSequence_ = sample_.sequence;
-  return Status::kOk;
-}
-
-backend::Status SimbodyBackend::write(const backend::Commands& commands) {
-  if (!started_) return fault("simbody: write() on a backend that is not started");
-  if (faulted_) return Status::kFault;
-  const int n = world_->numJoints();
-  if (commands.num_joints != n) {
-    char msg[160];
-    std::snprintf(msg, sizeof msg, "simbody: commands for %d joints, the robot has %d; ignored",
-                  commands.num_joints, n);
-    copyMessage(lastError_, msg);
-    return Status::kFault;
-  }
-  for (int j = 0; j < n; ++j) {
-    const backend::JointCommand& c = commands.joint[j];
-    const char* bad = !std::isfinite(c.tau_ff)   ? "tau_ff is not finite"
-                      : !std::isfinite(c.q_des)  ? "q_des is not finite"
-                      : !std::isfinite(c.dq_des) ? "dq_des is not finite"
-                      : !(c.kp >= 0.0 && std::isfinite(c.kp)) ? "kp is negative or not finite"
-                      : !(c.kd >= 0.0 && std::isfinite(c.kd)) ? "kd is negative or not finite"
-                                                              : nullptr;
-    if (bad) {
-      char msg[200];
-      std::snprintf(msg, sizeof msg, "simbody: joint %d (%s): %s; commands ignored", j,
-                    caps_.joint_names[j], bad);
-      copyMessage(lastError_, msg);
-      return Status::kFault;
-    }
-  }
-  QueuedCommands& slot = queue_[tick_ % queue_.size()];
-  slot.tick = static_cast<std::int64_t>(tick_);
-  std::copy(commands.joint, commands.joint + n, slot.joint);
-  return Status::kOk;
-}
-
-backend::Status SimbodyBackend::advance(backend::TickTiming& timing) {
-  timing = backend::TickTiming{};
-  const timespec begin = plugin::monotonicNow();
-  if (!started_) return fault("simbody: advance() on a backend that is not started");
-  if (faulted_) return Status::kFault;
-  if (!lockstep_ && tick_ == 0) pacer_.start(period_);  // the schedule starts with the first tick
-  const std::int64_t due = static_cast<std::int64_t>(tick_) - settings_.motor_latency_ticks;
-  const QueuedCommands& slot = queue_[static_cast<std::size_t>(due >= 0 ? due : 0) % queue_.size()];
-  if (due >= 0 && slot.tick == due) world_->setMotorCommands(slot.joint);
-  try {
-    // After a stall (real time) the world has gone on meanwhile: it steps through the skipped
-    // periods with the motors holding their last command.
-    world_->stepTo(static_cast<double>(tick_ + 1) * period_);
-    ++tick_;
-    if (lidarEnabled_) scanLidar();
-    sampleSensors();
-  } catch (const std::exception& e) {
-    faulted_ = true;
-    return fault(e.what());
-  } catch (...) {
-    faulted_ = true;
-    return fault("simbody: the simulation failed with an unknown exception");
-  }
-  const timespec stepped = plugin::monotonicNow();
-  if (lockstep_) return Status::kOk;
-  // The world's own computing beyond half a period does not exist for the robot: the world
-  // waits (the schedule moves on) rather than the controller looking late.
-  const double stepping = plugin::secondsBetween(begin, stepped);
-  pacer_.pause(stepping - kSimulationShare * period_);
-  host_.delay(world_->time());
-  const double work = plugin::secondsBetween(begin, plugin::monotonicNow());
-  timing = pacer_.wait();
-  timing.work = work;
-  tick_ += timing.skipped;
-  return Status::kOk;
-}
-
-void SimbodyBackend::stop() {
-  if (started_ && world_ && !faulted_) {
-    backend::JointCommand off[backend::kMaxJoints] = {};
-    world_->setMotorCommands(off);
-  }
-  started_ = false;
 }
 
 bool SimbodyBackend::push(const backend::Push& push, backend::Error& error) {

@@ -62,63 +62,33 @@
 #include <vector>
 
 #include "backend_abi.hpp"
-#include "host_delays.hpp"    // plugins/common
 #include "rolling_lidar.hpp"  // plugins/common
 #include "sensor_model.hpp"   // plugins/common
+#include "simulation_backend.hpp"  // plugins/common
 #include "sim_settings.hpp"
 #include "simbody_world.hpp"
-#include "tick_pacer.hpp"     // plugins/common
 
 namespace ballast::simbody {
 
-class SimbodyBackend final : public backend::Backend {
+class SimbodyBackend final : public plugin::SimulationBackend<SimbodyBackend, SimbodyWorld> {
  public:
+  SimbodyBackend() : SimulationBackend("simbody") {}
   bool configure(const backend::Config& config, backend::Error& error) override;
-  const backend::Capabilities& capabilities() const override { return caps_; }
   bool start(backend::Error& error) override;
-  backend::Status read(backend::Sensors& sensors) override;
-  backend::Status write(const backend::Commands& commands) override;
-  backend::Status advance(backend::TickTiming& timing) override;
-  using backend::Backend::advance;
-  const backend::Error& lastError() const override { return lastError_; }
-  void stop() override;
   bool push(const backend::Push& push, backend::Error& error) override;
   bool lidarScan(backend::PointCloudView& scan) override;
 
   // Not part of the ABI: for tests and benchmarks that link the backend directly.
-  SimbodyWorld& world() { return *world_; }
   const SimSettings& settings() const { return settings_; }
-  std::uint64_t lateTicks() const { return pacer_.lateTicks(); }
-  std::uint64_t ticks() const { return tick_; }
 
  private:
-  backend::Status fault(const char* message);
+  friend class plugin::SimulationBackend<SimbodyBackend, SimbodyWorld>;  // its per-tick hooks
   void sampleSensors();
   void scanLidar();
 
-  backend::Capabilities caps_;
-  backend::Error lastError_;
   SimSettings settings_;
-  std::unique_ptr<SimbodyWorld> world_;
   plugin::SensorModel sensors_;
   plugin::RollingLidar lidar_;
-  bool lidarEnabled_ = false;
-  double period_ = 0.001;
-  bool lockstep_ = true;
-  bool started_ = false, faulted_ = false;
-
-  // Commands in flight: slot k % size holds what was written during tick k.
-  struct QueuedCommands {
-    std::int64_t tick = -1;
-    backend::JointCommand joint[backend::kMaxJoints];
-  };
-  std::vector<QueuedCommands> queue_;
-
-  std::uint64_t tick_ = 0;  ///< advances since start()
-  backend::Sensors sample_;
-  std::uint64_t lastReadSequence_ = 0;
-  plugin::TickPacer pacer_;
-  plugin::HostDelays host_;
 };
 
 }  // namespace ballast::simbody

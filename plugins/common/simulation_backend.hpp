@@ -1,0 +1,188 @@
+// What every simulation backend does with the ABI's per-tick calls, whatever its simulator:
+//   read()    hands out the last sensor sample (kStale when nothing new since the last read);
+//   write()   validates the commands (joint count, finite values, gains >= 0) and queues them
+//             motor_latency_ticks deep; bad commands are kFault and ignored;
+//   advance() applies the commands due, steps the world to the end of this period (through the
+//             periods a stall skipped, the motors holding their last command), advances the
+//             lidar and samples the sensors; in real time it then paces to absolute deadlines
+//             (tick_pacer.hpp), after the host delays tests inject (host_delays.hpp), and the
+//             simulator's own computing beyond half a period pauses the schedule (the world
+//             waits) instead of making the controller look late;
+//   stop()    turns the motors off.
+// A backend derives from SimulationBackend<Derived, World>, fills caps_, period_, lockstep_ and
+// lidarEnabled_ in configure() (with configureCommands()), calls restartTicks() in start(), and
+// provides sampleSensors() (fills sample_) and scanLidar(). World provides numJoints(),
+// setMotorCommands(const JointCommand*), stepTo(seconds) and time(). Nothing here allocates
+// after configure().
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <exception>
+#include <memory>
+#include <vector>
+
+#include "backend_abi.hpp"
+#include "host_delays.hpp"
+#include "tick_pacer.hpp"
+
+namespace ballast::plugin {
+
+template <typename Derived, typename World>
+class SimulationBackend : public backend::Backend {
+ public:
+  const backend::Capabilities& capabilities() const override { return caps_; }
+  const backend::Error& lastError() const override { return lastError_; }
+
+  backend::Status read(backend::Sensors& sensors) override {
+    if (!started_) return notStarted("read");
+    if (faulted_) return backend::Status::kFault;
+    sensors = sample_;
+    if (sample_.sequence == lastReadSequence_) return backend::Status::kStale;
+    lastReadSequence_ = sample_.sequence;
+    return backend::Status::kOk;
+  }
+
+  backend::Status write(const backend::Commands& commands) override {
+    if (!started_) return notStarted("write");
+    if (faulted_) return backend::Status::kFault;
+    const int n = world_->numJoints();
+    if (commands.num_joints != n) {
+      std::snprintf(message_, sizeof message_, "%s: commands for %d joints, the robot has %d; ignored",
+                    simulator_, commands.num_joints, n);
+      return refuse(message_);
+    }
+    for (int j = 0; j < n; ++j) {
+      const backend::JointCommand& c = commands.joint[j];
+      const char* bad = !std::isfinite(c.tau_ff)   ? "tau_ff is not finite"
+                        : !std::isfinite(c.q_des)  ? "q_des is not finite"
+                        : !std::isfinite(c.dq_des) ? "dq_des is not finite"
+                        : !(c.kp >= 0.0 && std::isfinite(c.kp)) ? "kp is negative or not finite"
+                        : !(c.kd >= 0.0 && std::isfinite(c.kd)) ? "kd is negative or not finite"
+                                                                : nullptr;
+      if (bad) {
+        std::snprintf(message_, sizeof message_, "%s: joint %d (%s): %s; commands ignored",
+                      simulator_, j, caps_.joint_names[j], bad);
+        return refuse(message_);
+      }
+    }
+    QueuedCommands& slot = queue_[tick_ % queue_.size()];
+    slot.tick = static_cast<std::int64_t>(tick_);
+    std::copy(commands.joint, commands.joint + n, slot.joint);
+    return backend::Status::kOk;
+  }
+
+  backend::Status advance(backend::TickTiming& timing) override {
+    timing = backend::TickTiming{};
+    const timespec begin = monotonicNow();
+    if (!started_) return notStarted("advance");
+    if (faulted_) return backend::Status::kFault;
+    if (!lockstep_ && tick_ == 0) pacer_.start(period_);  // the schedule starts with the first tick
+    const std::int64_t due = static_cast<std::int64_t>(tick_) - motorLatencyTicks_;
+    const QueuedCommands& slot = queue_[static_cast<std::size_t>(due >= 0 ? due : 0) % queue_.size()];
+    if (due >= 0 && slot.tick == due) world_->setMotorCommands(slot.joint);
+    Derived& self = static_cast<Derived&>(*this);
+    try {
+      // After a stall (real time) the world has gone on meanwhile: it steps through the skipped
+      // periods with the motors holding their last command.
+      world_->stepTo(static_cast<double>(tick_ + 1) * period_);
+      ++tick_;
+      if (lidarEnabled_) self.scanLidar();
+      self.sampleSensors();
+    } catch (const std::exception& e) {
+      faulted_ = true;
+      return refuse(e.what());
+    } catch (...) {
+      faulted_ = true;
+      std::snprintf(message_, sizeof message_, "%s: the simulation failed with an unknown exception",
+                    simulator_);
+      return refuse(message_);
+    }
+    const timespec stepped = monotonicNow();
+    if (lockstep_) return backend::Status::kOk;
+    // The world's own computing beyond half a period does not exist for the robot: the world
+    // waits (the schedule moves on) rather than the controller looking late.
+    pacer_.pause(secondsBetween(begin, stepped) - kSimulationShare * period_);
+    host_.delay(world_->time());
+    const double work = secondsBetween(begin, monotonicNow());
+    timing = pacer_.wait();
+    timing.work = work;
+    tick_ += timing.skipped;
+    return backend::Status::kOk;
+  }
+  using backend::Backend::advance;
+
+  void stop() override {
+    if (started_ && world_ && !faulted_) {
+      backend::JointCommand off[backend::kMaxJoints] = {};
+      world_->setMotorCommands(off);
+    }
+    started_ = false;
+  }
+
+  // Not part of the ABI: for tests and benchmarks that link the backend directly.
+  World& world() { return *world_; }
+  std::uint64_t lateTicks() const { return pacer_.lateTicks(); }
+  std::uint64_t ticks() const { return tick_; }
+
+ protected:
+  /// Share of each real-time period the simulation may take before its world waits.
+  static constexpr double kSimulationShare = 0.5;
+
+  /// simulator: the name messages start with ("simbody").
+  explicit SimulationBackend(const char* simulator) : simulator_(simulator) {}
+
+  /// configure(): commands reach the motors this many ticks after they are written.
+  void configureCommands(int motorLatencyTicks) {
+    motorLatencyTicks_ = motorLatencyTicks;
+    queue_.assign(static_cast<std::size_t>(motorLatencyTicks + 1), QueuedCommands{});
+  }
+  /// start(): no command in flight, tick 0, a new schedule, no sample read yet.
+  void restartTicks() {
+    for (QueuedCommands& q : queue_) q.tick = -1;
+    tick_ = 0;
+    pacer_ = TickPacer{};
+    sample_ = backend::Sensors{};
+    lastReadSequence_ = 0;
+  }
+  /// lastError() says message; kFault.
+  backend::Status refuse(const char* message) {
+    copyMessage(lastError_, message);
+    return backend::Status::kFault;
+  }
+
+  backend::Capabilities caps_;
+  backend::Error lastError_;
+  std::unique_ptr<World> world_;
+  bool lidarEnabled_ = false;
+  double period_ = 0.001;
+  bool lockstep_ = true;
+  bool started_ = false, faulted_ = false;
+  std::uint64_t tick_ = 0;  ///< advances since start()
+  backend::Sensors sample_;
+  HostDelays host_;
+
+ private:
+  backend::Status notStarted(const char* call) {
+    std::snprintf(message_, sizeof message_, "%s: %s() on a backend that is not started",
+                  simulator_, call);
+    return refuse(message_);
+  }
+
+  // Commands in flight: slot k % size holds what was written during tick k.
+  struct QueuedCommands {
+    std::int64_t tick = -1;
+    backend::JointCommand joint[backend::kMaxJoints];
+  };
+
+  const char* simulator_;
+  char message_[256] = {};
+  int motorLatencyTicks_ = 0;
+  std::vector<QueuedCommands> queue_;
+  std::uint64_t lastReadSequence_ = 0;
+  TickPacer pacer_;
+};
+
+}  // namespace ballast::plugin
