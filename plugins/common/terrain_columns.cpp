@@ -8,6 +8,8 @@
 #include <memory>
 #include <stdexcept>
 
+#include <unistd.h>
+
 namespace ballast::plugin {
 namespace {
 
@@ -83,6 +85,18 @@ TerrainColumns loadTerrainColumns(const std::string& path) {
   columns.ny = static_cast<int>(ny);
   columns.tops = std::move(tops);
   return columns;
+}
+
+std::string resolveTerrainMap(const std::string& map, const std::string& origin,
+                              const std::string& where) {
+  auto readable = [](const std::string& path) { return access(path.c_str(), R_OK) == 0; };
+  if (map.empty() || map[0] == '/' || readable(map)) return map;
+  const std::string profile = origin.substr(0, origin.rfind(':'));
+  const auto slash = profile.rfind('/');
+  const std::string dir = slash == std::string::npos ? "." : profile.substr(0, slash);
+  const std::string beside = dir + "/" + map;
+  if (readable(beside)) return beside;
+  throw std::runtime_error(where + "cannot read " + map + " (nor " + beside + ")");
 }
 
 }  // namespace ballast::plugin

@@ -28,4 +28,10 @@ struct TerrainColumns {
 /// an OctoMap OcTree, too large). A map without occupied cells gives empty columns.
 TerrainColumns loadTerrainColumns(const std::string& path);
 
+/// A backend section's terrain_map as a path to open: as given when it is absolute or readable,
+/// else beside the profile the section comes from (origin "file:line"). Throws
+/// std::runtime_error starting with `where` (the key's location) when neither is readable.
+std::string resolveTerrainMap(const std::string& map, const std::string& origin,
+                              const std::string& where);
+
 }  // namespace ballast::plugin

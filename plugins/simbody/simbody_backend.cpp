@@ -1,33 +1,14 @@
 #include "simbody_backend.hpp"
 
-#include <unistd.h>
-
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <string>
 
+#include "terrain_columns.hpp"  // plugins/common
+
 namespace ballast::simbody {
-namespace {
-
-
-bool readable(const std::string& path) { return access(path.c_str(), R_OK) == 0; }
-
-/// The settings' terrain_map, as given if readable, else next to the profile.
-std::string resolveMap(const SimSettings& s) {
-  if (s.terrain_map.empty() || s.terrain_map[0] == '/' || readable(s.terrain_map))
-    return s.terrain_map;
-  const std::string profile = s.origin.substr(0, s.origin.rfind(':'));
-  const auto slash = profile.rfind('/');
-  const std::string dir = slash == std::string::npos ? "." : profile.substr(0, slash);
-  const std::string beside = dir + "/" + s.terrain_map;
-  if (readable(beside)) return beside;
-  throw std::runtime_error(s.where("terrain_map") + "cannot read " + s.terrain_map +
-                           " (nor " + beside + ")");
-}
-
-}  // namespace
 
 bool SimbodyBackend::configure(const backend::Config& config, backend::Error& error) {
   started_ = faulted_ = false;
@@ -68,7 +49,8 @@ bool SimbodyBackend::configure(const backend::Config& config, backend::Error& er
       }
     options.terrainMap = settings_.terrain_map.empty()
                              ? std::string(config.terrain_map ? config.terrain_map : "")
-                             : resolveMap(settings_);
+                             : plugin::resolveTerrainMap(settings_.terrain_map, settings_.origin,
+                                                           settings_.where("terrain_map"));
     if (!settings_.terrain_map.empty()) options.terrainMapWhere = settings_.where("terrain_map");
     world_ = std::make_unique<SimbodyWorld>(options);
 
