@@ -89,6 +89,10 @@ std::string renderStatus(const json& s) {
         << fmt("%.3f", num(l, "p99")) << " max " << fmt("%.3f", num(l, "max")) << " ms (last "
         << fmt("%.0f", num(tm, "window_s")) << " s)   late " << tm.value("late_ticks", 0)
         << "   skipped " << tm.value("skipped_periods", 0) << "\n";
+      if (tm.value("host_stalls", 0) > 0)
+        o << "           host stalls " << tm.value("host_stalls", 0) << " (max "
+          << fmt("%.1f", num(tm, "host_stall_ms_max"))
+          << " ms): the simulated world waited for its host\n";
     }
   }
   o << "faults    ";

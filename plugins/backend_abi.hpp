@@ -28,7 +28,7 @@
 namespace ballast::backend {
 
 // 2: position fixes; 3: TickTiming; 4: Config::contact_points, BackendEntry::check
-inline constexpr std::uint32_t kBackendAbiVersion = 4;
+inline constexpr std::uint32_t kBackendAbiVersion = 5;
 inline constexpr const char* kBackendEntrySymbol = "ballast_backend_entry";
 
 inline constexpr int kMaxJoints = 32;
@@ -64,6 +64,12 @@ struct TickTiming {
   /// s the backend itself worked in advance() before pacing (a simulation's step; 0 if it does
   /// not say): part of the tick's budget that the daemon cannot see.
   double work = 0.0;
+  /// s of this tick in which the host did not run the control thread although it was ready (a
+  /// wake-up late by more than half a period, or the thread preempted in its work without having
+  /// blocked), when a simulation's world waited for it rather than going on: the simulator runs
+  /// on that host, so its world stops with it (the stall is no command gap for the simulated
+  /// motors). Always 0 from hardware, whose motors live on the wall clock.
+  double host_stall = 0.0;
 };
 
 /// What the controller's model says of a joint that a simulation should reproduce.

@@ -241,6 +241,17 @@ void ControlLoop::keepSchedule(double work) {
   // Lockstep: simulated time waits for the loop, nothing is ever late.
   if (options_.lockstep) return;
   timing_stats_.record(timing_, work);
+  if (timing_.host_stall > 0.0 && t_ >= next_host_stall_warning_) {
+    // Shown (at most one a second), never a fault: the simulated motors had their commands all
+    // along.
+    next_host_stall_warning_ = t_ + 1.0;
+    std::snprintf(message_, sizeof(message_),
+                  "host stall: the host did not run the control thread for %.2f ms (the tick "
+                  "worked %.2f ms); the simulated world waited. On a robot: a command gap "
+                  "(PREEMPT_RT prevents it)",
+                  timing_.host_stall * 1e3, work * 1e3);
+    event(true, message_);
+  }
   if (timing_.late) {
     // Counted and shown, not a fault by itself; logged at most every 10 s of controller time,
     // a stall (periods skipped) at most every second unless it is long, with where the tick's

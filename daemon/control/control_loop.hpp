@@ -190,6 +190,7 @@ class ControlLoop {
   LoopProfile profile_;
   LoopProfile tick_profile_;         // the last tick's share of each part
   double next_stall_warning_ = 0.0;  // controller time
+  double next_host_stall_warning_ = 0.0;
   double late_work_ = 0.0;           // work of the last late tick, s
   double next_late_warning_ = 0.0;   // controller time
   std::uint64_t settings_generation_ = 0;

@@ -48,6 +48,10 @@ void TickTimingStats::record(const backend::TickTiming& timing, double work) {
   last_ = timing.lateness;
   work_last_ = work;
   skipped_ += timing.skipped;
+  if (timing.host_stall > 0.0) {
+    ++host_stalls_;
+    host_stall_max_ = std::max(host_stall_max_, timing.host_stall);
+  }
 
   std::uint8_t& slot = late_ring_[ring_next_];
   if (window_filled_ == late_ring_.size()) late_in_window_ -= slot;
@@ -64,6 +68,8 @@ TimingSummary TickTimingStats::summary() const {
   s.work_last = work_last_;
   s.late_ticks = late_;
   s.skipped_periods = skipped_;
+  s.host_stalls = host_stalls_;
+  s.host_stall_max = host_stall_max_;
   s.late_in_last_second = late_in_window_;
   std::uint64_t n = 0;
   for (const Bucket& b : buckets_) {

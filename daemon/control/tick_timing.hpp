@@ -29,6 +29,10 @@ struct TimingSummary {
   double work_max = 0.0;        ///< the longest over the window
   std::uint64_t late_ticks = 0;       ///< since start
   std::uint64_t skipped_periods = 0;  ///< since start
+  /// Ticks since start in which a simulation's world waited for its host, which did not run the
+  /// control thread although it was ready (TickTiming::host_stall), and the longest wait (s).
+  std::uint64_t host_stalls = 0;
+  double host_stall_max = 0.0;
   std::uint32_t late_in_last_second = 0;
 };
 
@@ -69,7 +73,8 @@ class TickTimingStats {
   std::vector<std::uint8_t> late_ring_;  // the last second's ticks: 1 = late
   std::uint32_t ring_next_ = 0, window_filled_ = 0, late_in_window_ = 0;
   double last_ = 0.0, work_last_ = 0.0;
-  std::uint64_t late_ = 0, skipped_ = 0;
+  std::uint64_t late_ = 0, skipped_ = 0, host_stalls_ = 0;
+  double host_stall_max_ = 0.0;
 };
 
 }  // namespace ballast::control

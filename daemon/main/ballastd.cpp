@@ -216,9 +216,10 @@ int main(int argc, char** argv) {
   d->writer().stop();
   d->server()->close();
   const control::LoopStatus last = d->loop().status();
-  spdlog::info("stopped at t={:.3f} s in {} ({} ticks, {} late, {} periods skipped)", last.t,
-               control::modeName(last.mode), last.ticks, last.timing.late_ticks,
-               last.timing.skipped_periods);
+  spdlog::info("stopped at t={:.3f} s in {} ({} ticks, {} late, {} periods skipped, {} host "
+               "stalls the simulated world waited for)",
+               last.t, control::modeName(last.mode), last.ticks, last.timing.late_ticks,
+               last.timing.skipped_periods, last.timing.host_stalls);
   d.reset();
   return status;
 }

@@ -68,6 +68,8 @@ json statusJson(const control::LoopStatus& s, const StatusExtras& x, bool joints
   j["timing"]["late_ticks"] = tm.late_ticks;
   j["timing"]["late_last_second"] = tm.late_in_last_second;
   j["timing"]["skipped_periods"] = tm.skipped_periods;
+  j["timing"]["host_stalls"] = tm.host_stalls;
+  j["timing"]["host_stall_ms_max"] = tm.host_stall_max * 1e3;
   j["faults"] = json::array();
   for (int i = 0; i < s.faults.size; ++i) {
     const control::Fault& f = s.faults.fault[i];

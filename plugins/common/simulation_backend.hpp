@@ -7,7 +7,13 @@
 //             lidar and samples the sensors; in real time it then paces to absolute deadlines
 //             (tick_pacer.hpp), after the host delays tests inject (host_delays.hpp), and the
 //             simulator's own computing beyond half a period pauses the schedule (the world
-//             waits) instead of making the controller look late;
+//             waits) instead of making the controller look late. So does the host not running
+//             the control thread although it was ready (a wake-up late by more than half a
+//             period, preemption within a tick that never blocked: TickTiming::host_stall): the
+//             simulator runs on that host and stops with it, and a desktop or a virtual machine
+//             without PREEMPT_RT stalls tens of ms a minute, which no robot's computer does. The
+//             controller's own lateness (its computing, its blocking) and the injected delays
+//             pass in the world as on a robot: the motors hold their command through them;
 //   stop()    turns the motors off.
 // A backend derives from SimulationBackend<Derived, World>, fills caps_, period_, lockstep_ and
 // lidarEnabled_ in configure() (with configureCommands()), calls restartTicks() in start(), and
@@ -77,6 +83,7 @@ class SimulationBackend : public backend::Backend {
   backend::Status advance(backend::TickTiming& timing) override {
     timing = backend::TickTiming{};
     const timespec begin = monotonicNow();
+    const ThreadRun runAtAdvance = lockstep_ ? ThreadRun{} : threadRun();
     if (!started_) return notStarted("advance");
     if (faulted_) return backend::Status::kFault;
     if (!lockstep_ && tick_ == 0) pacer_.start(period_);  // the schedule starts with the first tick
@@ -100,16 +107,33 @@ class SimulationBackend : public backend::Backend {
                     simulator_);
       return refuse(message_);
     }
-    const timespec stepped = monotonicNow();
     if (lockstep_) return backend::Status::kOk;
     // The world's own computing beyond half a period does not exist for the robot: the world
-    // waits (the schedule moves on) rather than the controller looking late.
-    pacer_.pause(secondsBetween(begin, stepped) - kSimulationShare * period_);
+    // waits (the schedule moves on) rather than the controller looking late. CPU time, so that
+    // a host stall within the step is not counted twice.
+    pacer_.pause(threadRun().cpu - runAtAdvance.cpu - kSimulationShare * period_);
     host_.delay(world_->time());
     const double work = secondsBetween(begin, monotonicNow());
+    // The host's share of this tick's work: its wall time beyond its CPU time, unless the
+    // thread blocked (then the time is the controller's, or an injected delay's).
+    double hostStall = 0.0;
+    const ThreadRun run = threadRun();
+    if (tickBegan_.tv_sec != 0 && run.voluntary_switches == runAtTick_.voluntary_switches) {
+      const double stolen = secondsBetween(tickBegan_, monotonicNow()) - (run.cpu - runAtTick_.cpu);
+      if (stolen > kSimulationShare * period_) hostStall = stolen;
+    }
+    pacer_.pause(hostStall);
     timing = pacer_.wait();
+    // A wake-up that came late is the host's too.
+    if (!timing.late && timing.lateness > kSimulationShare * period_) {
+      pacer_.pause(timing.lateness);
+      hostStall += timing.lateness;
+    }
     timing.work = work;
+    timing.host_stall = hostStall;
     tick_ += timing.skipped;
+    tickBegan_ = monotonicNow();
+    runAtTick_ = threadRun();
     return backend::Status::kOk;
   }
   using backend::Backend::advance;
@@ -144,6 +168,7 @@ class SimulationBackend : public backend::Backend {
     for (QueuedCommands& q : queue_) q.tick = -1;
     tick_ = 0;
     pacer_ = TickPacer{};
+    tickBegan_ = timespec{};
     sample_ = backend::Sensors{};
     lastReadSequence_ = 0;
   }
@@ -183,6 +208,8 @@ class SimulationBackend : public backend::Backend {
   std::vector<QueuedCommands> queue_;
   std::uint64_t lastReadSequence_ = 0;
   TickPacer pacer_;
+  timespec tickBegan_{};  ///< when the last pacing returned (0: no tick yet since start())
+  ThreadRun runAtTick_;   ///< the control thread's CPU then
 };
 
 }  // namespace ballast::plugin

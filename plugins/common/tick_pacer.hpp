@@ -12,6 +12,7 @@
 // plan): a late one moves the schedule to now instead of counting, as a drive's start-up does.
 #pragma once
 
+#include <sys/resource.h>
 #include <time.h>
 
 #include <cerrno>
@@ -26,6 +27,25 @@ inline timespec monotonicNow() {
   timespec t;
   clock_gettime(CLOCK_MONOTONIC, &t);
   return t;
+}
+
+/// What the calling thread has had of the CPU: its CPU time (s) and how often it gave the CPU up
+/// by blocking (sleeping, waiting on a lock or IO). Wall time beyond the CPU time in a span
+/// without such a switch is time the host kept the thread from running (preempted, or its
+/// virtual CPU not scheduled).
+struct ThreadRun {
+  double cpu = 0.0;
+  long voluntary_switches = 0;
+};
+
+inline ThreadRun threadRun() {
+  ThreadRun r;
+  timespec t;
+  if (clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t) == 0)
+    r.cpu = static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+  rusage usage;
+  if (getrusage(RUSAGE_THREAD, &usage) == 0) r.voluntary_switches = usage.ru_nvcsw;
+  return r;
 }
 
 /// b − a, s.

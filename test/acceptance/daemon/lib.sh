@@ -80,8 +80,9 @@ timing_line() {
   awk -v p50="$(field timing.lateness_ms.p50)" -v p99="$(field timing.lateness_ms.p99)" \
       -v max="$(field timing.lateness_ms.max)" -v w="$(field timing.window_s)" \
       -v late="$(field timing.late_ticks)" -v n="$(field timing.ticks)" \
-      -v skipped="$(field timing.skipped_periods)" \
-      'BEGIN { printf "lateness p50 %.3f p99 %.3f max %.3f ms over %.1f s; late ticks %d of %d; skipped periods %d\n", p50, p99, max, w, late, n, skipped }'
+      -v skipped="$(field timing.skipped_periods)" -v hs="$(field timing.host_stalls)" \
+      -v hsmax="$(field timing.host_stall_ms_max)" \
+      'BEGIN { printf "lateness p50 %.3f p99 %.3f max %.3f ms over %.1f s; late ticks %d of %d; skipped periods %d; host stalls the world waited for %d (max %.1f ms)\n", p50, p99, max, w, late, n, skipped, hs, hsmax }'
 }
 
 stop_daemon() {

@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
+#include <mutex>
 #include <thread>
 
 #include "simbody_backend.hpp"
@@ -88,6 +90,103 @@ TEST_F(RealTime, ASlowSimulationStepMakesTheWorldWaitNotTheControllerLate) {
   EXPECT_LT(skipped, 12);
   EXPECT_NEAR(s.time, (250 + skipped) * config.period, 1e-9);
   EXPECT_GT(wall, 1.2 * s.time);  // the world fell behind the wall clock
+}
+
+/// A thread of higher SCHED_FIFO priority on the calling thread's CPU that, when released, takes
+/// that CPU for a while: the host not running the control thread although it is ready, as a
+/// kernel without PREEMPT_RT or a virtual machine's host does. Needs SCHED_FIFO (ok() says).
+class CpuThief {
+ public:
+  CpuThief() {
+    CPU_ZERO(&cpu_);
+    CPU_SET(sched_getcpu(), &cpu_);
+    pthread_getaffinity_np(pthread_self(), sizeof saved_, &saved_);
+    ok_ = pthread_setaffinity_np(pthread_self(), sizeof cpu_, &cpu_) == 0;
+    thread_ = std::thread([this] { run(); });
+    sched_param param{};
+    param.sched_priority = 90;
+    ok_ = ok_ && pthread_setaffinity_np(thread_.native_handle(), sizeof cpu_, &cpu_) == 0 &&
+          pthread_setschedparam(thread_.native_handle(), SCHED_FIFO, &param) == 0;
+  }
+  ~CpuThief() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      quit_ = true;
+    }
+    wake_.notify_one();
+    thread_.join();
+    pthread_setaffinity_np(pthread_self(), sizeof saved_, &saved_);
+  }
+  bool ok() const { return ok_; }
+  /// Takes the CPU for `seconds` from `after` seconds from now (0: at once, preempting the
+  /// caller within its work; later: while the caller sleeps, delaying its wake-up).
+  void steal(double after, double seconds) {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      after_ = after;
+      seconds_ = seconds;
+      due_ = true;
+    }
+    wake_.notify_one();
+  }
+
+ private:
+  void run() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    for (;;) {
+      wake_.wait(lock, [this] { return due_ || quit_; });
+      if (quit_) return;
+      due_ = false;
+      const auto from = std::chrono::steady_clock::now() + std::chrono::duration<double>(after_);
+      const auto until = from + std::chrono::duration<double>(seconds_);
+      lock.unlock();
+      std::this_thread::sleep_until(from);
+      while (std::chrono::steady_clock::now() < until) {
+      }
+      lock.lock();
+    }
+  }
+
+  cpu_set_t cpu_, saved_;
+  bool ok_ = false;
+  std::thread thread_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool due_ = false, quit_ = false;
+  double after_ = 0.0, seconds_ = 0.0;
+};
+
+TEST_F(RealTime, TheWorldWaitsForAHostThatDoesNotRunTheControlThread) {
+  // The simulator runs on the host: when the host does not run the control thread although it
+  // is ready, the world stops with it (one period simulated, no period skipped, not late) and
+  // the tick says how long (host_stall); the controller's own stalls (it blocks: the test
+  // above) still pass in the world.
+  SimConfig config;
+  config.lockstep = false;
+  config.period = 0.002;
+  SimbodyBackend sim;
+  backend::Error error;
+  ASSERT_TRUE(sim.configure(config.config(), error) && sim.start(error)) << error.message;
+  CpuThief thief;
+  if (!thief.ok()) GTEST_SKIP() << "needs SCHED_FIFO and CPU affinity to emulate the host";
+  backend::TickTiming timing;
+  for (int k = 0; k < 25; ++k) ASSERT_EQ(sim.advance(timing), Status::kOk);
+  backend::Sensors before, after_stall;
+  ASSERT_EQ(sim.read(before), Status::kOk);
+  for (const double after : {0.0, 0.001}) {  // preempted in the tick's work; a late wake-up
+    SCOPED_TRACE(after == 0.0 ? "preempted in its work" : "woken late");
+    thief.steal(after, 0.020);
+    ASSERT_EQ(sim.advance(timing), Status::kOk);
+    double waited = timing.host_stall;
+    // A wake-up can come late in this advance() or, when the thief began before this tick's
+    // pacing slept, show as preemption in the next one.
+    ASSERT_EQ(sim.advance(timing), Status::kOk);
+    waited += timing.host_stall;
+    ASSERT_EQ(sim.read(after_stall), Status::kOk);
+    EXPECT_GE(waited, 0.015);
+    EXPECT_NEAR(after_stall.time - before.time, 2 * config.period, 1e-9);  // nothing skipped
+    before = after_stall;
+  }
 }
 
 TEST_F(RealTime, HostDelaysStallOnceAndJitterAFractionOfTicks) {

@@ -199,6 +199,35 @@ TEST_F(DeadlinePolicy, AStallWithinTheCommandGapRidesThrough) {
   EXPECT_EQ(loop_->status().timing.late_ticks, 1u);
 }
 
+TEST_F(DeadlinePolicy, AHostStallTheSimulatedWorldWaitedForIsShownNotAFault) {
+  // 72 ms in which the host did not run the control thread, twice within a second, then once
+  // more: a simulation's world waited (no period skipped, the motors had their commands in the
+  // world's time), so no fault; counted, the longest kept, logged at most once a second.
+  int k = 0;
+  backend_->next = [&] {
+    backend::TickTiming t = onTime();
+    if (++k == 100 || k == 300 || k == 1500) {
+      t.lateness = k == 300 ? 0.030 : 0.072;
+      t.host_stall = t.lateness;
+    }
+    return t;
+  };
+  ticks(2000);
+  const LoopStatus s = loop_->status();
+  EXPECT_EQ(s.faults.size, 0);
+  EXPECT_EQ(s.mode, Mode::kStand);
+  EXPECT_EQ(s.timing.host_stalls, 3u);
+  EXPECT_NEAR(s.timing.host_stall_max, 0.072, 1e-12);
+  EXPECT_EQ(s.timing.late_ticks, 0u);
+  EXPECT_NEAR(s.timing.lateness_max, 0.072, 1e-12);  // still the schedule's lateness
+  LoopEvent e;
+  int warnings = 0;
+  while (loop_->popEvent(e))
+    if (e.warning && std::strstr(e.message, "host stall: the host did not run the control thread for 72.00 ms (the tick"))
+      ++warnings;
+  EXPECT_EQ(warnings, 2);  // ticks 100 and 1500; 300 within the same second as 100
+}
+
 TEST_F(DeadlinePolicy, LockstepHasNoDeadlines) {
   make(true);
   int k = 0;
