@@ -250,6 +250,11 @@ struct BackendEntry {
   /// with the message configure() would give.
   /// Null: the plugin cannot check without configuring (ballastd says so).
   bool (*check)(const Config& config, Error& error);
+  /// The documentation of the plugin's profile section (backend.NAME), from the plugin's own
+  /// key table: format "man" gives man page entries (ballast-profile(5) through `ballastd
+  /// --dump-schema=man`), "yaml" every key at its default, commented out; another format, or
+  /// a null function: nothing. The text is the plugin's and stays valid until the next call.
+  const char* (*section_doc)(const char* format);
 };
 
 }  // namespace ballast::backend

@@ -5,6 +5,8 @@
 
 #include <climits>
 #include <cstdlib>
+#include <filesystem>
+#include <set>
 #include <sstream>
 
 namespace ballast::backend {
@@ -44,6 +46,21 @@ std::vector<std::string> defaultPluginDirs() {
   dirs.push_back(BALLAST_BUILD_PLUGIN_DIR);
   dirs.push_back(BALLAST_INSTALL_PLUGIN_DIR);
   return dirs;
+}
+
+std::vector<std::string> availablePlugins() {
+  const std::string prefix = "libballast_backend_", suffix = ".so";
+  std::set<std::string> names;
+  for (const std::string& dir : defaultPluginDirs()) {
+    std::error_code error;
+    for (const auto& entry : std::filesystem::directory_iterator(dir, error)) {
+      const std::string file = entry.path().filename().string();
+      if (file.size() > prefix.size() + suffix.size() && file.rfind(prefix, 0) == 0 &&
+          file.compare(file.size() - suffix.size(), suffix.size(), suffix) == 0)
+        names.insert(file.substr(prefix.size(), file.size() - prefix.size() - suffix.size()));
+    }
+  }
+  return {names.begin(), names.end()};
 }
 
 std::shared_ptr<Plugin> Plugin::load(const std::string& nameOrPath,

@@ -53,6 +53,8 @@ class Plugin {
 
 /// Where plugins are looked up after the profile's directories.
 std::vector<std::string> defaultPluginDirs();
+/// The names of the plugins found there (libballast_backend_<name>.so), sorted, each once.
+std::vector<std::string> availablePlugins();
 /// libballast_backend_<name>.so
 std::string pluginFileName(const std::string& name);
 

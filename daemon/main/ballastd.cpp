@@ -129,7 +129,8 @@ int main(int argc, char** argv) {
   app.add_option("--log-level", logLevel, "trace, debug, info, warn, error or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
   app.add_option("--dump-schema", dumpSchema,
-                 "print every profile key: man (ballast-profile(5)) or yaml, and exit")
+                 "print every profile key, the sections of the backend plugins found included: man "
+                 "(ballast-profile(5)) or yaml, and exit")
       ->check(CLI::IsMember({"man", "yaml"}));
   app.add_flag("--check", check,
                "validate the profile as a start would (the robot model, the terrain map, the "
@@ -140,12 +141,20 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
   }
-  if (dumpSchema == "man") {
-    std::cout << profile::schemaManPage();
-    return 0;
-  }
-  if (dumpSchema == "yaml") {
-    std::cout << profile::schemaYaml();
+  if (dumpSchema == "man" || dumpSchema == "yaml") {
+    std::vector<profile::BackendSectionDoc> backends;
+    for (const std::string& name : backend::availablePlugins()) {
+      try {
+        const auto plugin = backend::Plugin::load(name);
+        const char* text =
+            plugin->entry().section_doc ? plugin->entry().section_doc(dumpSchema.c_str()) : nullptr;
+        if (text) backends.push_back({name, text});
+      } catch (const backend::PluginError& e) {
+        std::cerr << "ballastd: backend " << name << " left out: " << e.what() << "\n";
+      }
+    }
+    std::cout << (dumpSchema == "man" ? profile::schemaManPage(backends)
+                                      : profile::schemaYaml(backends));
     return 0;
   }
   auto logger = spdlog::stderr_color_mt("ballastd");

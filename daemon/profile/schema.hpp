@@ -46,9 +46,16 @@ const char* extendsKey();
 const char* backendKey();
 const char* urdfKey();
 
-/// ballast-profile(5), generated from the table (troff).
-std::string schemaManPage();
-/// Every key with its default and doc, as a commented YAML profile.
-std::string schemaYaml();
+/// A backend plugin's own section, documented by the plugin (BackendEntry::section_doc).
+struct BackendSectionDoc {
+  std::string name;  ///< "simbody": the section is backend.simbody
+  std::string text;  ///< man page entries, or commented YAML
+};
+
+/// ballast-profile(5), generated from the table (troff), with the backends' sections given.
+std::string schemaManPage(const std::vector<BackendSectionDoc>& backends = {});
+/// Every key with its default and doc, as a commented YAML profile; the backends' sections
+/// after it, commented out.
+std::string schemaYaml(const std::vector<BackendSectionDoc>& backends = {});
 
 }  // namespace ballast::profile

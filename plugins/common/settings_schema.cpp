@@ -482,18 +482,22 @@ std::string docBounds(const Key& k) {
 }
 }  // namespace
 
-std::string manEntries(const std::vector<const Key*>& keys) {
+std::string manEntries(const std::vector<const Key*>& keys, const std::string& section) {
   std::ostringstream m;
   std::string group;
   bool first = true;
+  const std::string prefix = section.empty() ? "" : section + ".";
   for (const Key* k : keys) {
     const std::string h = heading(*k);
     if (first || h != group) {
       group = h;
-      m << ".SS " << (group.empty() ? "top level" : group) << "\n";
+      m << ".SS "
+        << (section.empty() ? (group.empty() ? "top level" : troff(group))
+                            : troff(section) + (group.empty() ? "" : ": " + troff(group)))
+        << "\n";
       first = false;
     }
-    m << ".TP\n.B " << troff(k->name) << "\n";
+    m << ".TP\n.B " << troff(prefix + k->name) << "\n";
     m << "(" << typeName(k->type);
     if (k->length) m << ", " << k->length << " elements";
     if (const std::string b = docBounds(*k); !b.empty()) m << ", " << troff(b);
@@ -522,6 +526,27 @@ std::string yamlDefaults(const std::vector<const Key*>& keys) {
     y << "\n" << indent << leaf << ": " << (*k->defaultYaml ? k->defaultYaml : "\"\"") << "\n";
   }
   return y.str();
+}
+
+const char* backendSectionDoc(const std::vector<const Key*>& keys, const char* name,
+                              const char* format) {
+  static std::string text;
+  const std::string f = format ? format : "";
+  if (f == "man") {
+    text = manEntries(keys, std::string("backend.") + name);
+  } else if (f == "yaml") {
+    // Commented out, so that a profile of defaults stays one; uncommented (the first two
+    // characters of each line) it is the section nested where a profile puts it.
+    std::istringstream lines(yamlDefaults(keys));
+    std::ostringstream out;
+    out << "# backend:\n#   " << name << ":\n";
+    for (std::string line; std::getline(lines, line);)
+      out << (line.empty() ? "#" : "#     " + line) << "\n";
+    text = out.str();
+  } else {
+    return nullptr;
+  }
+  return text.c_str();
 }
 
 std::string textReference(const std::vector<const Key*>& keys) {

@@ -456,12 +456,18 @@ Alias<detail::RootOf<M...>> alias(const char* key) {
 // ---- documentation of a list of keys (any settings type)
 
 /// Entries for a man page: per section (or group) a .SS heading, per key a .TP paragraph with
-/// its type, bounds, default and restart flag.
-std::string manEntries(const std::vector<const Key*>& keys);
+/// its type, bounds, default and restart flag. `section`: the section the keys live in, put
+/// before their names and headings (a backend plugin's "backend.simbody").
+std::string manEntries(const std::vector<const Key*>& keys, const std::string& section = "");
 /// Every key with its doc, bounds and default, as a commented YAML file.
 std::string yamlDefaults(const std::vector<const Key*>& keys);
 /// Per group, one line per key: name, type, default, bounds, doc (a plugin header's listing).
 std::string textReference(const std::vector<const Key*>& keys);
+/// A backend plugin's section for BackendEntry::section_doc: format "man" (manEntries under
+/// "backend.NAME"), "yaml" (yamlDefaults under backend: NAME:, every line commented out, to be
+/// appended to a profile of defaults), else null. The text stays valid until the next call.
+const char* backendSectionDoc(const std::vector<const Key*>& keys, const char* name,
+                              const char* format);
 /// Text for troff: backslashes and dashes escaped, a leading dot or quote protected.
 std::string troff(const std::string& text);
 

@@ -11,7 +11,8 @@ const ballast::backend::BackendEntry kEntry{
     ballast::backend::kBackendAbiVersion, "mujoco",
     "MuJoCo 2.2.2 simulation: the URDF robot on an OctoMap terrain, MuJoCo's soft contact, motor "
     "model, IMU and lidar, pushes; lockstep or real time",
-    &create, &destroy, nullptr};  // no check yet: ballastd --check says so
+    &create, &destroy, nullptr,  // no check yet: ballastd --check says so
+    &ballast::mujoco::mujocoSettingsDoc};
 
 }  // namespace
 

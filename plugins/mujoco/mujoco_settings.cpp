@@ -109,6 +109,9 @@ MujocoSettings parseMujocoSettings(const std::string& yaml, const std::string& o
 }
 
 std::string mujocoSettingsReference() { return schema::textReference(kSchema.keys()); }
+const char* mujocoSettingsDoc(const char* format) {
+  return schema::backendSectionDoc(kSchema.keys(), "mujoco", format);
+}
 
 plugin::SensorNoise sensorNoise(const MujocoSettings& s) {
   plugin::SensorNoise n;

@@ -165,6 +165,8 @@ MujocoSettings parseMujocoSettings(const std::string& yaml, const std::string& o
 
 /// The key reference as text (the listing in this header's comment).
 std::string mujocoSettingsReference();
+/// BackendEntry::section_doc: this section's keys as man page entries or commented YAML.
+const char* mujocoSettingsDoc(const char* format);
 
 /// The sensor keys, for the shared sensor model.
 plugin::SensorNoise sensorNoise(const MujocoSettings& settings);

@@ -99,6 +99,9 @@ SimSettings parseSimSettings(const std::string& yaml, const std::string& origin)
 }
 
 std::string simSettingsReference() { return schema::textReference(kSchema.keys()); }
+const char* simSettingsDoc(const char* format) {
+  return schema::backendSectionDoc(kSchema.keys(), "simbody", format);
+}
 
 plugin::SensorNoise sensorNoise(const SimSettings& s) {
   plugin::SensorNoise n;

@@ -160,6 +160,8 @@ SimSettings parseSimSettings(const std::string& yaml, const std::string& origin)
 
 /// The key reference as text (the listing in this header's comment).
 std::string simSettingsReference();
+/// BackendEntry::section_doc: this section's keys as man page entries or commented YAML.
+const char* simSettingsDoc(const char* format);
 
 /// The sensor keys, for the shared sensor model.
 plugin::SensorNoise sensorNoise(const SimSettings& settings);

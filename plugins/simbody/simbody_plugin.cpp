@@ -19,7 +19,7 @@ const ballast::backend::BackendEntry kEntry{
     ballast::backend::kBackendAbiVersion, "simbody",
     "Simbody simulation: the URDF robot on an OctoMap terrain, compliant contact, motor model, "
     "IMU and lidar, pushes; lockstep or real time",
-    &create, &destroy, &check};
+    &create, &destroy, &check, &ballast::simbody::simSettingsDoc};
 
 }  // namespace
 

@@ -11,7 +11,8 @@ const ballast::backend::BackendEntry kEntry{
     ballast::backend::kBackendAbiVersion, "socketcan",
     "SocketCAN hardware: MIT-protocol motors on one or more CAN buses and an IMU on the bus; "
     "candump logs; lockstep on emulated buses",
-    &create, &destroy, &ballast::socketcan::SocketcanBackend::check};
+    &create, &destroy, &ballast::socketcan::SocketcanBackend::check,
+    &ballast::socketcan::socketcanSettingsDoc};
 
 }  // namespace
 

@@ -169,6 +169,9 @@ SocketcanSettings parseSocketcanSettings(const std::string& yaml, const std::str
 }
 
 std::string socketcanSettingsReference() { return schema::textReference(kSchema.keys()); }
+const char* socketcanSettingsDoc(const char* format) {
+  return schema::backendSectionDoc(kSchema.keys(), "socketcan", format);
+}
 
 void checkBusLoad(const SocketcanSettings& s, double period) {
   // Classic CAN, 11-bit ids, without stuffing: 47 bits + 8 per data byte (with the interframe

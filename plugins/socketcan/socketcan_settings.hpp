@@ -103,6 +103,8 @@ const std::vector<SettingKey>& socketcanSettingKeys();
 SocketcanSettings parseSocketcanSettings(const std::string& yaml, const std::string& origin);
 
 std::string socketcanSettingsReference();
+/// BackendEntry::section_doc: this section's keys as man page entries or commented YAML.
+const char* socketcanSettingsDoc(const char* format);
 
 /// Refuses a section whose per-tick frames would take more than max_bus_load of a bus's time at
 /// this control period (SettingsError naming the bus and its motors).

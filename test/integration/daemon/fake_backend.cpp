@@ -242,7 +242,7 @@ void destroy(Backend* b) {
   delete b;
 }
 const BackendEntry kEntry{kBackendAbiVersion, "fake", "kinematic fake for ballastd's tests",
-                          &create, &destroy, nullptr};
+                          &create, &destroy, nullptr, nullptr};
 
 }  // namespace
 

@@ -3,6 +3,9 @@
 // socket, telemetry flushed), SIGHUP reloads a valid profile and keeps the running one
 // otherwise.
 #include <set>
+#include <sstream>
+
+#include <yaml-cpp/yaml.h>
 
 #include "test/integration/daemon/daemon_harness.hpp"
 
@@ -94,6 +97,34 @@ TEST(Check, ChecksTheBackendsSectionThroughItsPlugin) {
   fs::remove_all(dir);
 }
 #endif
+
+// ballast-profile(5) is `ballastd --dump-schema=man`: the daemon's keys and the sections of the
+// backend plugins built, each key from its plugin's own table; --dump-schema=yaml is a profile of
+// every default with the plugins' sections commented out, which read back as those sections.
+TEST(DumpSchema, TheManPageIsBallastdsOutputWithEveryBackendsSection) {
+  const Outcome man = runProgram({BALLASTD, "--dump-schema=man"});
+  ASSERT_EQ(man.status, 0) << man.err;
+  for (const char* backend : {"simbody", "mujoco", "socketcan"})
+    if (man.out.find(std::string(".SS backend.") + backend) == std::string::npos)
+      GTEST_SKIP() << "the " << backend << " plugin is not built: the page has every backend";
+  EXPECT_NE(man.out.find(".B backend.simbody.friction\n"), std::string::npos);
+  EXPECT_NE(man.out.find(".SS backend.socketcan"), std::string::npos);
+  EXPECT_EQ(man.out, readFile(fs::path(BALLAST_SOURCE_DIR) / "man/ballast-profile.5"))
+      << "man/ballast-profile.5 differs from ballastd's: regenerate it with\n"
+         "  build/bin/ballastd --dump-schema=man > man/ballast-profile.5";
+
+  const Outcome yaml = runProgram({BALLASTD, "--dump-schema=yaml"});
+  ASSERT_EQ(yaml.status, 0) << yaml.err;
+  const std::size_t at = yaml.out.find("# backend:\n#   simbody:\n");
+  ASSERT_NE(at, std::string::npos) << yaml.out;
+  // Uncommented, the simbody block is a profile's backend section.
+  std::string section;
+  std::istringstream lines(yaml.out.substr(at));
+  for (std::string line; std::getline(lines, line) && line.rfind("#", 0) == 0;)
+    section += (line.size() > 2 ? line.substr(2) : "") + "\n";
+  const YAML::Node node = YAML::Load(section);
+  EXPECT_EQ(node["backend"]["simbody"]["friction"].as<double>(), 0.8) << section;
+}
 
 TEST(Lifecycle, DaemonAndCliMeetOnTheDefaultSocket) {
   // Neither is told where: both take $XDG_RUNTIME_DIR/ballast/ballastd.sock.

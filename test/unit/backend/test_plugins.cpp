@@ -63,7 +63,7 @@ constexpr std::uint32_t kVersion = kBackendAbiVersion + 1000;
 #else
 constexpr std::uint32_t kVersion = kBackendAbiVersion;
 #endif
-const BackendEntry kEntry{kVersion, "test", "loader test backend", &create, &destroy, nullptr};
+const BackendEntry kEntry{kVersion, "test", "loader test backend", &create, &destroy, nullptr, nullptr};
 }  // namespace
 
 extern "C" __attribute__((visibility("default"))) const BackendEntry* ballast_backend_entry() {

@@ -465,7 +465,11 @@ TEST(ManPage, IsGeneratedFromTheSchema) {
   ASSERT_TRUE(in) << "man/ballast-profile.5 is missing";
   std::stringstream text;
   text << in.rdbuf();
-  EXPECT_TRUE(text.str() == schemaManPage())
+  // The whole file against ballastd's output, with the plugins' sections, is
+  // DumpSchema.TheManPageIsBallastdsOutputWithEveryBackendsSection; here the daemon's part.
+  const std::string page = schemaManPage();
+  const std::string keys = page.substr(0, page.find(".SH BRINGING UP A NEW ROBOT"));
+  EXPECT_EQ(text.str().rfind(keys, 0), 0u)
       << "man/ballast-profile.5 differs from the schema: regenerate it with\n"
          "  build/bin/ballastd --dump-schema=man > man/ballast-profile.5";
   for (const Key& k : schema()) {
