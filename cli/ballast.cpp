@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdio>
 #include <filesystem>
@@ -208,57 +209,84 @@ int plot(const std::string& file, const std::string& out, const std::string& tit
 
 /// `ballast log FILE --info | --to tsv [-o OUT]`: a binary recording's header, or the TSV
 /// recording it converts to.
-int logCmd(const std::string& file, bool info, const std::string& to, const std::string& out,
-           const Options& o) {
+struct LogOptions {
+  std::string file, out, to;
+  bool info = false;
+};
+
+/// How much of a column's value a recording keeps: "exact (f64)", "f32" (format 1), or the
+/// resolution ("0.001").
+std::string kept(const blog::Column& c) {
+  if (c.type == blog::Type::kF32) return "f32";
+  if (c.type != blog::Type::kI32) return std::string("exact (") + blog::typeName(c.type) + ")";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", c.resolution);
+  return buf;
+}
+
+/// --info: the header, frames, duration, size and the columns.
+int logInfo(const LogOptions& l, const Options& o) {
   std::string error;
-  if (info) {
-    blog::Summary s;
-    if (!blog::summarize(file, s, error)) return refuse(o, "bad_recording", error);
-    const double duration = s.frames > 0 ? s.t_last - s.t_first : 0.0;
-    const double per_frame = s.frames > 0 ? double(s.bytes) / double(s.frames) : 0.0;
-    if (o.json) {
-      json cols = json::array();
-      for (const auto& c : s.header.columns)
-        cols.push_back({{"name", c.name}, {"unit", c.unit}, {"type", blog::typeName(c.type)}});
-      json j = {{"ok", true},          {"file", file},
-                {"format", s.header.version}, {"profile", s.header.profile},
-                {"robot", s.header.robot},    {"start", blog::utcTime(s.header.start_unix_ns)},
-                {"frames", s.frames},         {"t_first", s.t_first},
-                {"t_last", s.t_last},         {"duration", duration},
-                {"bytes", s.bytes},           {"bytes_per_frame", per_frame},
-                {"columns", cols},            {"truncated", s.truncated}};
-      if (s.truncated) j["truncation"] = s.truncation;
-      std::cout << j.dump() << "\n";
-      return kOk;
+  blog::Summary s;
+  if (!blog::summarize(l.file, s, error)) return refuse(o, "bad_recording", error);
+  const double duration = s.frames > 0 ? s.t_last - s.t_first : 0.0;
+  const double per_frame = s.frames > 0 ? double(s.bytes) / double(s.frames) : 0.0;
+  // What ten minutes of this recording take, at its own frame rate (telemetry.decimation).
+  const double mb_per_10min = duration > 0 ? double(s.bytes) / duration * 600.0 / 1e6 : 0.0;
+  if (o.json) {
+    json cols = json::array();
+    for (const auto& c : s.header.columns) {
+      json col = {{"name", c.name}, {"unit", c.unit}, {"type", blog::typeName(c.type)}};
+      if (c.type == blog::Type::kI32) col["resolution"] = c.resolution;
+      if (!c.doc.empty()) col["doc"] = c.doc;
+      cols.push_back(col);
     }
-    std::printf("file      %s\nformat    ballast binary log, version %u\n", file.c_str(),
-                s.header.version);
-    std::printf("profile   %s\nrobot     %s\nstart     %s\n", s.header.profile.c_str(),
-                s.header.robot.c_str(), blog::utcTime(s.header.start_unix_ns).c_str());
-    std::printf("frames    %llu (t %.3f to %.3f s: %.3f s)\n",
-                static_cast<unsigned long long>(s.frames), s.t_first, s.t_last, duration);
-    std::printf("size      %llu bytes (%.1f bytes per frame)\n",
-                static_cast<unsigned long long>(s.bytes), per_frame);
-    if (s.truncated) std::printf("truncated %s: read up to the last complete block\n", s.truncation.c_str());
-    std::printf("columns   %zu:", s.header.columns.size());
-    for (const auto& c : s.header.columns)
-      std::printf(" %s[%s,%s]", c.name.c_str(), c.unit.c_str(), blog::typeName(c.type));
-    std::printf("\n");
+    json j = {{"ok", true},          {"file", l.file},
+              {"format", s.header.version}, {"profile", s.header.profile},
+              {"robot", s.header.robot},    {"start", blog::utcTime(s.header.start_unix_ns)},
+              {"frames", s.frames},         {"t_first", s.t_first},
+              {"t_last", s.t_last},         {"duration", duration},
+              {"bytes", s.bytes},           {"bytes_per_frame", per_frame},
+              {"mb_per_10min", mb_per_10min}, {"columns", cols},
+              {"truncated", s.truncated}};
+    if (s.truncated) j["truncation"] = s.truncation;
+    std::cout << j.dump() << "\n";
     return kOk;
   }
-  if (to != "tsv") return usage("ballast log: give --info or --to tsv");
+  std::printf("file      %s\nformat    ballast binary log, version %u\n", l.file.c_str(),
+              s.header.version);
+  std::printf("profile   %s\nrobot     %s\nstart     %s\n", s.header.profile.c_str(),
+              s.header.robot.c_str(), blog::utcTime(s.header.start_unix_ns).c_str());
+  std::printf("frames    %llu (t %.3f to %.3f s: %.3f s)\n",
+              static_cast<unsigned long long>(s.frames), s.t_first, s.t_last, duration);
+  std::printf("size      %llu bytes (%.1f bytes per frame, %.1f MB per 10 minutes)\n",
+              static_cast<unsigned long long>(s.bytes), per_frame, mb_per_10min);
+  if (s.truncated)
+    std::printf("truncated %s: read up to the last complete block\n", s.truncation.c_str());
+  std::printf("columns   %zu\n", s.header.columns.size());
+  std::size_t width = 4;
+  for (const auto& c : s.header.columns) width = std::max(width, c.name.size());
+  for (const auto& c : s.header.columns)
+    std::printf("  %-*s %-6s %-12s%s%s\n", static_cast<int>(width), c.name.c_str(),
+                c.unit.c_str(), kept(c).c_str(), c.doc.empty() ? "" : " ", c.doc.c_str());
+  return kOk;
+}
+
+int logCmd(const LogOptions& l, const Options& o) {
+  if (l.info) return logInfo(l, o);
+  if (l.to != "tsv") return usage("ballast log: give --info or --to tsv");
   std::FILE* f = stdout;
-  if (!out.empty() && out != "-") {
-    f = std::fopen(out.c_str(), "w");
-    if (!f) return refuse(o, "io_error", "cannot write " + out + ": " + std::strerror(errno));
+  if (!l.out.empty() && l.out != "-") {
+    f = std::fopen(l.out.c_str(), "w");
+    if (!f) return refuse(o, "io_error", "cannot write " + l.out + ": " + std::strerror(errno));
   }
-  std::string truncation;
-  const bool ok = blog::writeTsv(file, f, error, &truncation);
+  std::string error, truncation;
+  const bool ok = blog::convert(l.file, f, {}, error, &truncation);
   if (f != stdout) std::fclose(f);
   if (!ok) return refuse(o, "bad_recording", error);
   if (!truncation.empty())
     std::fprintf(stderr, "ballast log: %s is truncated (%s): converted up to its last complete block\n",
-                 file.c_str(), truncation.c_str());
+                 l.file.c_str(), truncation.c_str());
   return kOk;
 }
 
@@ -357,13 +385,13 @@ int main(int argc, char** argv) {
 
   auto* logCmdApp =
       app.add_subcommand("log", "a binary recording (.blog): its header, or converted to TSV");
-  std::string logFile, logTo, logOut;
-  bool logInfo = false;
-  logCmdApp->add_option("file", logFile, "binary recording (.blog)")->required();
-  logCmdApp->add_flag("--info", logInfo, "print the header, frames, duration and size");
-  logCmdApp->add_option("--to", logTo, "convert to this format (tsv)")
+  LogOptions logOpt;
+  logCmdApp->add_option("file", logOpt.file, "binary recording (.blog)")->required();
+  logCmdApp->add_flag("--info", logOpt.info,
+                      "print the header, frames, duration, size and columns (unit, resolution)");
+  logCmdApp->add_option("--to", logOpt.to, "convert to this format (tsv)")
       ->check(CLI::IsMember({"tsv"}));
-  logCmdApp->add_option("-o,--output", logOut, "file to write (default: standard output)");
+  logCmdApp->add_option("-o,--output", logOpt.out, "file to write (default: standard output)");
 
   auto* lease = app.add_subcommand("lease", "the command lease (motion commands need it)");
   lease->require_subcommand(1);
@@ -505,7 +533,7 @@ int main(int argc, char** argv) {
                  });
   }
   if (name == "plot") return plot(plotFile, plotOut, plotTitle, o);
-  if (name == "log") return logCmd(logFile, logInfo, logTo, logOut, o);
+  if (name == "log") return logCmd(logOpt, o);
   if (name == "lease") {
     const std::string what = sub(verb);
     if (what == "return") {

@@ -1,9 +1,11 @@
 #include "blog/blog.hpp"
 
+#include <fnmatch.h>
 #include <zstd.h>
 
 #include <cerrno>
 #include <charconv>
+#include <climits>
 #include <cmath>
 #include <cstring>
 #include <ctime>
@@ -26,9 +28,38 @@ std::uint32_t getU32(const unsigned char* p) {
          std::uint32_t(p[3]) << 24;
 }
 
+// An i32 column's counts for what is not a multiple of its resolution.
+constexpr std::int32_t kCountNaN = INT32_MIN, kCountNegInf = INT32_MIN + 1,
+                       kCountPosInf = INT32_MAX;
+
+/// x in an i32 column of this resolution: the nearest count (half away from zero, whatever the
+/// rounding mode), NaN and what lies beyond the counts' range to their own counts.
+std::int32_t countOf(double x, double resolution) {
+  if (std::isnan(x)) return kCountNaN;
+  const double k = std::round(x / resolution);
+  if (k >= double(kCountPosInf)) return kCountPosInf;
+  if (k <= double(kCountNegInf)) return kCountNegInf;
+  return static_cast<std::int32_t>(k);
+}
+
+double valueOfCount(std::int32_t k, double resolution) {
+  switch (k) {
+    case kCountNaN: return std::nan("");
+    case kCountNegInf: return -HUGE_VAL;
+    case kCountPosInf: return HUGE_VAL;
+    default: return k * resolution;
+  }
+}
+
+/// x in a u8 column: the nearest integer in 0..255 (NaN 0).
+std::uint8_t u8Of(double x) {
+  return std::isfinite(x) && x > 0 ? static_cast<std::uint8_t>(std::lround(std::fmin(x, 255.0)))
+                                   : 0;
+}
+
 /// A value's bits in its column's type, widened to 64 bits.
-std::uint64_t bitsOf(double x, Type t) {
-  switch (t) {
+std::uint64_t bitsOf(double x, const Column& c) {
+  switch (c.type) {
     case Type::kF64: {
       std::uint64_t b;
       std::memcpy(&b, &x, 8);
@@ -41,14 +72,15 @@ std::uint64_t bitsOf(double x, Type t) {
       return b;
     }
     case Type::kU8:
-      return std::isfinite(x) && x > 0 ? static_cast<std::uint8_t>(std::lround(std::fmin(x, 255.0)))
-                                       : 0;
+      return u8Of(x);
+    case Type::kI32:
+      return static_cast<std::uint32_t>(countOf(x, c.resolution));
   }
   return 0;
 }
 
-double valueOf(std::uint64_t b, Type t) {
-  switch (t) {
+double valueOf(std::uint64_t b, const Column& c) {
+  switch (c.type) {
     case Type::kF64: {
       double x;
       std::memcpy(&x, &b, 8);
@@ -62,6 +94,8 @@ double valueOf(std::uint64_t b, Type t) {
     }
     case Type::kU8:
       return static_cast<double>(b & 0xff);
+    case Type::kI32:
+      return valueOfCount(static_cast<std::int32_t>(static_cast<std::uint32_t>(b)), c.resolution);
   }
   return 0;
 }
@@ -85,7 +119,7 @@ std::uint64_t undoZigzagDelta(std::uint64_t z, std::uint64_t b, std::size_t w) {
 }
 
 bool parseType(const std::string& s, Type& t) {
-  for (Type c : {Type::kF64, Type::kF32, Type::kU8})
+  for (Type c : {Type::kF64, Type::kF32, Type::kU8, Type::kI32})
     if (s == typeName(c)) {
       t = c;
       return true;
@@ -100,6 +134,7 @@ const char* typeName(Type t) {
     case Type::kF64: return "f64";
     case Type::kF32: return "f32";
     case Type::kU8: return "u8";
+    case Type::kI32: return "i32";
   }
   return "?";
 }
@@ -109,8 +144,14 @@ int typeSize(Type t) {
     case Type::kF64: return 8;
     case Type::kF32: return 4;
     case Type::kU8: return 1;
+    case Type::kI32: return 4;
   }
   return 0;
+}
+
+double stored(double x, const Column& c) {
+  if (c.type == Type::kF64 || std::isnan(x)) return x;
+  return valueOf(bitsOf(x, c), c);
 }
 
 std::uint32_t crc32(const void* data, std::size_t size, std::uint32_t crc) {
@@ -140,26 +181,90 @@ std::string utcTime(std::int64_t ns) {
   return buf;
 }
 
-void appendTsv(std::string& line, double x) {
-  if (std::isnan(x)) {
-    line += "NaN\t";
-    return;
-  }
+namespace {
+
+/// x with 9 significant digits (the TSV recording's f64 columns), shortest form.
+void appendDouble(std::string& line, double x) {
   char buf[32];
   const auto r = std::to_chars(buf, buf + sizeof(buf), x, std::chars_format::general, 9);
   line.append(buf, r.ptr);
-  line += '\t';
 }
 
-void appendTsv(std::string& line, double x, Type t) {
-  if (t != Type::kF32 || std::isnan(x)) {
-    appendTsv(line, x);
+/// d if resolution is the double nearest 10^-d (d in -9..15), else INT_MIN.
+int decimalsOf(double resolution) {
+  for (int d = -9; d <= 15; ++d) {
+    char text[16];
+    std::snprintf(text, sizeof text, "1e%d", -d);
+    if (resolution == std::strtod(text, nullptr)) return d;
+  }
+  return INT_MIN;
+}
+
+/// The count k as the decimal k * 10^-decimals (decimals <= 15), exactly: digits, not a product
+/// of doubles.
+void appendDecimal(std::string& line, std::int64_t k, int decimals) {
+  if (k == 0) {
+    line += '0';
     return;
   }
-  char buf[32];
-  const auto r = std::to_chars(buf, buf + sizeof(buf), static_cast<float>(x));
-  line.append(buf, r.ptr);
-  line += '\t';
+  if (k < 0) line += '-';
+  char buf[48];
+  char* begin = buf + 24;  // room for the leading zeros of 0.000123
+  char* end = std::to_chars(begin, buf + sizeof buf, k < 0 ? -k : k).ptr;
+  if (decimals <= 0) {
+    line.append(begin, end);
+    line.append(std::size_t(-decimals), '0');
+    return;
+  }
+  while (end - begin <= decimals) *--begin = '0';
+  char* point = end - decimals;
+  while (end > point && end[-1] == '0') --end;  // trailing zeros
+  line.append(begin, point);
+  if (end > point) {
+    line += '.';
+    line.append(point, end);
+  }
+}
+
+}  // namespace
+
+TextFormat::TextFormat(const std::vector<Column>& columns) {
+  for (const Column& c : columns)
+    cells_.push_back({c.type, c.resolution, c.type == Type::kI32 ? decimalsOf(c.resolution) : 0});
+}
+
+void TextFormat::append(std::string& line, std::size_t c, double x) const {
+  const Cell& cell = cells_[c];
+  if (cell.type == Type::kU8) {  // a flag keeps no NaN
+    appendDouble(line, u8Of(x));
+    return;
+  }
+  if (std::isnan(x)) {
+    line += "NaN";
+    return;
+  }
+  switch (cell.type) {
+    case Type::kF64:
+    case Type::kU8:
+      appendDouble(line, x);
+      return;
+    case Type::kF32: {
+      char buf[32];
+      const auto r = std::to_chars(buf, buf + sizeof(buf), static_cast<float>(x));
+      line.append(buf, r.ptr);
+      return;
+    }
+    case Type::kI32: {
+      const std::int32_t k = countOf(x, cell.resolution);
+      if (k == kCountPosInf || k == kCountNegInf)
+        line += k == kCountPosInf ? "inf" : "-inf";
+      else if (cell.decimals != INT_MIN)
+        appendDecimal(line, k, cell.decimals);
+      else
+        appendDouble(line, k * cell.resolution);
+      return;
+    }
+  }
 }
 
 // ---- writing
@@ -175,9 +280,17 @@ bool Writer::open(const std::string& path, const Header& h, std::string& error) 
   text << "format " << kFormatVersion << "\nprofile " << h.profile << "\nrobot " << h.robot
        << "\nstart_unix_ns " << h.start_unix_ns << "\nstart_utc " << utcTime(h.start_unix_ns)
        << "\nframes_per_block " << h.frames_per_block << "\ncolumns " << h.columns.size() << '\n';
-  for (const Column& c : h.columns)
+  for (const Column& c : h.columns) {
     text << "column " << c.name << ' ' << (c.unit.empty() ? "-" : c.unit) << ' '
-         << typeName(c.type) << '\n';
+         << typeName(c.type) << ' ';
+    if (c.type == Type::kI32) {
+      char buf[32];
+      text << std::string_view(buf, std::to_chars(buf, buf + sizeof buf, c.resolution).ptr - buf);
+    } else {
+      text << '-';
+    }
+    text << ' ' << c.doc << '\n';
+  }
   const std::string t = text.str();
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (!f) {
@@ -222,7 +335,7 @@ void Writer::append(const double* values) {
   if (!file_) return;
   for (std::size_t c = 0; c < columns_.size(); ++c) {
     const int w = typeSize(columns_[c].type);
-    const std::uint64_t b = bitsOf(values[c], columns_[c].type);
+    const std::uint64_t b = bitsOf(values[c], columns_[c]);
     unsigned char* p = values_.data() + offset_[c] + std::size_t(in_block_) * w;
     for (int k = 0; k < w; ++k) p[k] = static_cast<unsigned char>(b >> (8 * k));
   }
@@ -328,8 +441,19 @@ bool Reader::open(const std::string& path, std::string& error) {
     else if (key == "column") {
       std::istringstream cols(value);
       Column c;
-      std::string type;
-      if (!(cols >> c.name >> c.unit >> type) || !parseType(type, c.type)) {
+      std::string type, resolution;
+      bool ok = (cols >> c.name >> c.unit >> type) && parseType(type, c.type);
+      if (ok && version >= 2 && (cols >> resolution)) {
+        std::getline(cols >> std::ws, c.doc);
+        if (c.type == Type::kI32) {
+          char* end = nullptr;
+          c.resolution = std::strtod(resolution.c_str(), &end);
+          ok = *end == '\0' && std::isfinite(c.resolution) && c.resolution > 0;
+        }
+      } else if (c.type == Type::kI32) {
+        ok = false;  // an i32 column needs its resolution
+      }
+      if (!ok) {
         error = path + ": damaged header (column line \"" + line + "\")";
         return false;
       }
@@ -373,14 +497,14 @@ bool Reader::nextBlock(std::vector<double>& values, std::size_t& frames) {
   values.resize(std::size_t(n) * cols);
   std::size_t in = 0;
   for (std::size_t c = 0; c < cols; ++c) {
-    const Type t = header_.columns[c].type;
-    const std::size_t w = typeSize(t);
+    const Column& column = header_.columns[c];
+    const std::size_t w = typeSize(column.type);
     std::uint64_t prev = 0;
     for (std::size_t i = 0; i < n; ++i) {
       std::uint64_t b = 0;
       for (std::size_t k = 0; k < w; ++k) b |= std::uint64_t(raw_[in + k * n + i]) << (8 * k);
       prev = undoZigzagDelta(b, prev, w);
-      values[i * cols + c] = valueOf(prev, t);
+      values[i * cols + c] = valueOf(prev, column);
     }
     in += w * n;
   }
@@ -419,31 +543,89 @@ bool summarize(const std::string& path, Summary& out, std::string& error) {
   return true;
 }
 
-bool writeTsv(const std::string& path, std::FILE* out, std::string& error,
-              std::string* truncation) {
+bool selectColumns(const std::vector<Column>& columns, const std::vector<std::string>& patterns,
+                   std::vector<std::size_t>& selected, std::string& error) {
+  selected.clear();
+  std::vector<bool> keep(columns.size(), patterns.empty());
+  for (const std::string& p : patterns) {
+    bool any = false;
+    for (std::size_t c = 0; c < columns.size(); ++c)
+      if (fnmatch(p.c_str(), columns[c].name.c_str(), 0) == 0) keep[c] = any = true;
+    if (!any) {
+      error = "no column matches '" + p + "' (`ballast log FILE --info` lists them)";
+      return false;
+    }
+  }
+  for (std::size_t c = 0; c < columns.size(); ++c)
+    if (columns[c].name == "t") selected.push_back(c);  // every slice keeps the time first
+  for (std::size_t c = 0; c < columns.size(); ++c)
+    if (keep[c] && columns[c].name != "t") selected.push_back(c);
+  return true;
+}
+
+namespace {
+
+/// A CSV field: quoted when it holds a comma, a quote or a line break (RFC 4180).
+void appendCsvField(std::string& line, const std::string& field) {
+  if (field.find_first_of(",\"\r\n") == std::string::npos) {
+    line += field;
+    return;
+  }
+  line += '"';
+  for (char ch : field) line += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  line += '"';
+}
+
+}  // namespace
+
+bool convert(const std::string& path, std::FILE* out, const Slice& slice, std::string& error,
+             std::string* truncation, std::uint64_t* frames) {
   Reader r;
   if (!r.open(path, error)) return false;
   const auto& cols = r.header().columns;
-  std::string line = "# ballast telemetry 1\n# ";
-  for (std::size_t c = 0; c < cols.size(); ++c) {
-    line += cols[c].name;
-    line += c + 1 < cols.size() ? '\t' : '\n';
+  std::vector<std::size_t> selected;
+  if (!selectColumns(cols, slice.columns, selected, error)) return false;
+  const bool csv = slice.format == Slice::Format::kCsv;
+  const char sep = csv ? ',' : '\t';
+  std::string line = csv ? "" : "# ballast telemetry 1\n# ";
+  for (std::size_t s = 0; s < selected.size(); ++s) {
+    if (csv)
+      appendCsvField(line, cols[selected[s]].name);
+    else
+      line += cols[selected[s]].name;
+    line += s + 1 < selected.size() ? sep : '\n';
   }
   std::fwrite(line.data(), 1, line.size(), out);
+  int t = -1;
+  for (std::size_t c = 0; c < cols.size(); ++c)
+    if (cols[c].name == "t") t = static_cast<int>(c);
+  const TextFormat text(cols);
   std::vector<double> values;
   std::size_t n = 0;
-  while (r.nextBlock(values, n)) {
+  std::uint64_t written = 0;
+  bool past = false;  // t runs forward: after the window, nothing more is in it
+  while (!past && r.nextBlock(values, n)) {
     for (std::size_t i = 0; i < n; ++i) {
+      const double* v = values.data() + i * cols.size();
+      if (t >= 0 && !(v[t] >= slice.from)) continue;
+      if (t >= 0 && v[t] > slice.to) {
+        past = true;
+        break;
+      }
       line.clear();
-      for (std::size_t c = 0; c < cols.size(); ++c)
-        appendTsv(line, values[i * cols.size() + c], cols[c].type);
+      for (std::size_t c : selected) {
+        if (!(csv && std::isnan(v[c]))) text.append(line, c, v[c]);
+        line += sep;
+      }
       line.back() = '\n';
       std::fwrite(line.data(), 1, line.size(), out);
+      ++written;
     }
   }
   if (r.truncated() && truncation) *truncation = r.truncation();
+  if (frames) *frames = written;
   if (std::ferror(out)) {
-    error = std::string("cannot write the TSV: ") + std::strerror(errno);
+    error = std::string("cannot write the ") + (csv ? "CSV" : "TSV") + ": " + std::strerror(errno);
     return false;
   }
   return true;

@@ -7,124 +7,77 @@
 #include <cmath>
 #include <cstring>
 
-#include "model/base_conventions.hpp"
 
 namespace ballast::control {
 
 namespace {
-
-/// Velocity in the heading frame (yaw only): forward and lateral.
-void headingVelocity(const BaseState& b, double& forward, double& lateral) {
-  const double c = std::cos(b.rpy[2]), s = std::sin(b.rpy[2]);
-  forward = c * b.linear_velocity[0] + s * b.linear_velocity[1];
-  lateral = -s * b.linear_velocity[0] + c * b.linear_velocity[1];
-}
-
-void putBase(double*& out, const BaseState& b, bool valid) {
-  double f = kNaN, l = kNaN;
-  if (valid) headingVelocity(b, f, l);
-  const double* groups[4] = {b.position, b.linear_velocity, b.rpy, b.angular_velocity};
-  for (const double* g : groups)
-    for (int i = 0; i < 3; ++i) *out++ = valid ? g[i] : kNaN;
-  *out++ = f;
-  *out++ = l;
-}
 
 bool endsWith(const std::string& s, const char* suffix) {
   const std::size_t n = std::strlen(suffix);
   return s.size() >= n && s.compare(s.size() - n, n, suffix) == 0;
 }
 
+/// How many columns a row stands for in a frame of nj joints.
+int repeatCount(Repeat r, int nj) {
+  switch (r) {
+    case Repeat::kOnce: return 1;
+    case Repeat::kPerContact: return kNumContacts;
+    case Repeat::kPerLevel: return kNumPriorityLevels;
+    case Repeat::kPerJoint: return nj;
+  }
+  return 0;
+}
+
+/// The name of a row's column i.
+std::string columnName(const TelemetryColumn& row, int i, const std::vector<std::string>& joints) {
+  switch (row.repeat) {
+    case Repeat::kOnce: return row.name;
+    case Repeat::kPerContact: return row.name + std::to_string(i);
+    case Repeat::kPerLevel: return row.name + std::to_string(i + 1);
+    case Repeat::kPerJoint: return row.name + joints[i];
+  }
+  return row.name;
+}
+
 }  // namespace
 
 std::vector<std::string> telemetryColumns(const std::vector<std::string>& joints) {
-  std::vector<std::string> c = {"t", "mode"};
-  for (const char* prefix : {"", "true_"})
-    for (const char* n :
-         {"x", "y", "z", "vx", "vy", "vz", "roll", "pitch", "yaw", "wx", "wy", "wz", "v_fwd",
-          "v_lat"})
-      c.push_back(std::string(prefix) + n);
-  for (const char* n :
-       {"cmd_vx", "cmd_vy", "cmd_yaw_rate", "cmd_height", "cmd_roll", "cmd_pitch", "cmd_yaw"})
-    c.push_back(n);
-  for (int i = 0; i < kNumContacts; ++i) c.push_back("contact_" + std::to_string(i));
-  for (int i = 1; i <= kNumPriorityLevels; ++i) c.push_back("err_p" + std::to_string(i));
-  c.push_back("mpc_ms");
-  c.push_back("wbc_ms");
-  c.push_back("tick_ms");
-  c.push_back("lateness_ms");
-  c.push_back("limb_err");  // RMS over the joints of q − q_ref, rad (the paper's Fig. 3 b)
-  for (const char* prefix : {"q_", "dq_", "tau_", "qref_", "tauff_"})
-    for (const auto& j : joints) c.push_back(prefix + j);
-  return c;
+  std::vector<std::string> out;
+  for (const blog::Column& c : telemetryColumnsDescribed(joints)) out.push_back(c.name);
+  return out;
 }
 
 std::vector<blog::Column> telemetryColumnsDescribed(const std::vector<std::string>& joints) {
-  using blog::Type;
-  // Units by name; every physical quantity is f32 (blog/blog.hpp says why), t is f64, the mode
-  // and the contact flags u8.
-  static const std::pair<const char*, const char*> kUnits[] = {
-      {"t", "s"}, {"mode", "-"}, {"x", "m"}, {"y", "m"}, {"z", "m"}, {"vx", "m/s"},
-      {"vy", "m/s"}, {"vz", "m/s"}, {"roll", "rad"}, {"pitch", "rad"}, {"yaw", "rad"},
-      {"wx", "rad/s"}, {"wy", "rad/s"}, {"wz", "rad/s"}, {"v_fwd", "m/s"}, {"v_lat", "m/s"},
-      {"cmd_vx", "m/s"}, {"cmd_vy", "m/s"}, {"cmd_yaw_rate", "rad/s"}, {"cmd_height", "m"},
-      {"cmd_roll", "rad"}, {"cmd_pitch", "rad"}, {"cmd_yaw", "rad"}, {"mpc_ms", "ms"},
-      {"wbc_ms", "ms"}, {"tick_ms", "ms"}, {"lateness_ms", "ms"}, {"limb_err", "rad"}};
-  static const std::pair<const char*, const char*> kPrefixes[] = {
-      {"true_", nullptr}, {"contact_", "-"}, {"err_p", "-"}, {"q_", "rad"}, {"dq_", "rad/s"},
-      {"tau_", "N*m"}, {"qref_", "rad"}, {"tauff_", "N*m"}};
   std::vector<blog::Column> out;
-  for (const std::string& name : telemetryColumns(joints)) {
-    blog::Column c{name, "-", Type::kF32};
-    std::string base = name;
-    for (const auto& [prefix, unit] : kPrefixes)
-      if (name.rfind(prefix, 0) == 0) {
-        if (unit) c.unit = unit;
-        else base = name.substr(std::strlen(prefix));
-        break;
-      }
-    for (const auto& [n, unit] : kUnits)
-      if (base == n) c.unit = unit;
-    if (name == "t") c.type = Type::kF64;
-    if (name == "mode" || name.rfind("contact_", 0) == 0) c.type = Type::kU8;
-    out.push_back(c);
-  }
+  const int nj = static_cast<int>(joints.size());
+  for (const TelemetryColumn& row : telemetryTable())
+    for (int i = 0; i < repeatCount(row.repeat, nj); ++i)
+      out.push_back({columnName(row, i, joints), row.unit, row.type, row.resolution, row.doc});
   return out;
 }
 
 std::size_t telemetryValues(const TelemetryFrame& f, double* values) {
   double* out = values;
-  *out++ = f.t;
-  *out++ = static_cast<double>(f.mode);
-  putBase(out, f.base, true);
-  putBase(out, f.truth, f.has_truth);
-  const BaseCommand& c = f.command;
-  for (double x : {c.vx, c.vy, c.yaw_rate, c.height, c.roll, c.pitch, c.yaw}) *out++ = x;
-  for (bool b : f.contact) *out++ = b ? 1.0 : 0.0;
-  for (double e : f.task_error) *out++ = e;
-  *out++ = f.mpc_ms;
-  *out++ = f.wbc_ms;
-  *out++ = f.tick_ms;
-  *out++ = f.lateness_ms;
-  double sum = 0.0;
-  for (int j = 0; j < f.num_joints; ++j) sum += (f.q[j] - f.q_ref[j]) * (f.q[j] - f.q_ref[j]);
-  *out++ = f.num_joints > 0 ? std::sqrt(sum / f.num_joints) : 0.0;
-  const double* arrays[5] = {f.q, f.dq, f.tau, f.q_ref, f.tau_ff};
-  for (const double* a : arrays)
-    for (int j = 0; j < f.num_joints; ++j) *out++ = a[j];
+  for (const TelemetryColumn& row : telemetryTable())
+    for (int i = 0; i < repeatCount(row.repeat, f.num_joints); ++i) *out++ = row.value(f, i);
   return static_cast<std::size_t>(out - values);
 }
 
-void formatTelemetryLine(const TelemetryFrame& f, std::string& line) {
+void formatTelemetryLine(const TelemetryFrame& f, const blog::TextFormat& format,
+                         std::string& line) {
   double values[kMaxTelemetryColumns];
   const std::size_t n = telemetryValues(f, values);
-  for (std::size_t i = 0; i < n; ++i) blog::appendTsv(line, values[i]);
+  for (std::size_t i = 0; i < n; ++i) {
+    format.append(line, i, values[i]);
+    line += '\t';
+  }
   line.back() = '\n';
 }
 
 TelemetryWriter::TelemetryWriter(TelemetryRing& ring, std::vector<std::string> joint_names)
     : ring_(ring),
       joint_names_(std::move(joint_names)),
+      text_format_(telemetryColumnsDescribed(joint_names_)),
       values_(kMaxTelemetryColumns) {}
 
 TelemetryWriter::~TelemetryWriter() {
@@ -228,7 +181,7 @@ std::size_t TelemetryWriter::drain(std::size_t max_frames) {
     }
     if (!file_) continue;
     line_.clear();
-    formatTelemetryLine(frame, line_);
+    formatTelemetryLine(frame, text_format_, line_);
     std::fwrite(line_.data(), 1, line_.size(), file_);
     ++frames_;
   }

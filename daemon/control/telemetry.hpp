@@ -8,9 +8,12 @@
 // ring is full the loop drops the frame and counts it (real time), or, in lockstep, waits for
 // room, since there simulated time waits with it.
 //
-// File format (ballast(1) documents it): a first line "# ballast telemetry 1", a second line
-// "# " followed by the tab-separated column names (telemetryColumns), then one line per frame.
-// NaN marks a value that does not exist (no ground truth, no such priority level).
+// File format (ballastd(8), TELEMETRY, documents it): a first line "# ballast telemetry 1", a
+// second line "# " followed by the tab-separated column names (telemetryColumns), then one line
+// per frame, each value as the column table keeps it (blog::TextFormat: the .blog of the same
+// frames converts to the same text). NaN marks a value that does not exist (no ground truth, no
+// such priority level). The columns are the rows of one table (TelemetryColumn,
+// telemetry_columns.cpp).
 #pragma once
 
 #include <atomic>
@@ -47,20 +50,40 @@ struct TelemetryFrame {
 
 using TelemetryRing = SpscRing<TelemetryFrame>;
 
+/// A row of the column table: one column, or one per contact point (name + 0..3), priority level
+/// (name + 1..4) or joint (name + the URDF joint name).
+enum class Repeat : std::uint8_t { kOnce, kPerContact, kPerLevel, kPerJoint };
+struct TelemetryColumn {
+  const char* name;  ///< the column's name, or a repeated row's prefix
+  Repeat repeat;
+  const char* unit;
+  blog::Type type;    ///< kF64, kU8: kept exactly; kI32: to the resolution
+  double resolution;  ///< kI32: the step a recording keeps (in unit); 0 for the others
+  const char* doc;
+  double (*value)(const TelemetryFrame& frame, int index);  ///< index: contact, level, joint
+};
+/// The table, in file order (telemetry_columns.cpp).
+const std::vector<TelemetryColumn>& telemetryTable();
+/// The table as ballastd(8)'s TELEMETRY section lists it (roff: per row .TP, the name, then its
+/// unit, what a recording keeps and the doc).
+std::string telemetryColumnsMan();
+
 /// The most columns a frame has (t, mode, base estimate and truth, command, contacts, task errors,
-/// times, limb error, five values per joint).
+/// times, limb error, five values per joint); a test holds it to the table.
 inline constexpr std::size_t kMaxTelemetryColumns =
     2 + 28 + 7 + kNumContacts + kNumPriorityLevels + 5 + 5 * kMaxJoints;
 
 /// Column names, in file order, for a robot with these joints.
 std::vector<std::string> telemetryColumns(const std::vector<std::string>& joint_names);
-/// The same with each column's unit and its type in a .blog.
+/// The same with each column's unit, type, resolution and doc, as a .blog header has them.
 std::vector<blog::Column> telemetryColumnsDescribed(const std::vector<std::string>& joint_names);
 /// One frame's values in column order (values holds telemetryColumns().size()); returns how
 /// many it wrote.
 std::size_t telemetryValues(const TelemetryFrame& frame, double* values);
-/// Appends one frame as a line (tab-separated, '\n'-terminated).
-void formatTelemetryLine(const TelemetryFrame& frame, std::string& line);
+/// Appends one frame as a line (tab-separated, '\n'-terminated), each value as format (made of
+/// telemetryColumnsDescribed) prints it.
+void formatTelemetryLine(const TelemetryFrame& frame, const blog::TextFormat& format,
+                         std::string& line);
 
 /// What a recording's .blog header says besides the columns.
 struct RecordingInfo {
@@ -102,6 +125,7 @@ class TelemetryWriter {
   std::string path_;
   std::uint64_t frames_ = 0;
   std::string line_;
+  blog::TextFormat text_format_;  // the TSV's columns
   blog::Writer blog_;            // open while recording a .blog
   std::vector<double> values_;   // one frame's values (sized once)
   std::atomic<bool> stop_{false};

@@ -1,12 +1,22 @@
 // Shared fixtures for the tests: the robot, random states, finite differences.
 #pragma once
 
+#include <fstream>
 #include <random>
+#include <sstream>
 #include <string>
 
 #include "model/algorithms.hpp"
 
 namespace ballast::test {
+
+/// A file of the source tree (man/ballastd.8), whole; empty if it is missing.
+inline std::string sourceFile(const std::string& relative) {
+  std::ifstream in(std::string(BALLAST_SOURCE_DIR) + "/" + relative);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
 
 inline std::string humanoidUrdf() { return std::string(BALLAST_SOURCE_DIR) + "/urdf/humanoid.urdf"; }
 

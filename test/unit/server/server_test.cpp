@@ -4,13 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 #include "profile/profile.hpp"
 #include "server/protocol.hpp"
 #include "server/server.hpp"
 #include "server/status_json.hpp"
+#include "test/unit/test_support.hpp"
 
 namespace ballast::server {
 namespace {
@@ -68,10 +67,7 @@ TEST(Protocol, EveryVerbHasOneHandlerAndEveryHandlerAVerb) {
 
 // ballastd(8) lists the commands as the protocol table does.
 TEST(Protocol, TheManPageListsTheTable) {
-  std::ifstream in(std::string(BALLAST_SOURCE_DIR) + "/man/ballastd.8");
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string man = text.str();
+  const std::string man = test::sourceFile("man/ballastd.8");
   const auto intro = man.find("Commands (fields in brackets are optional");
   ASSERT_NE(intro, std::string::npos);
   const auto begin = man.find(".nf\n", intro) + 4, end = man.find(".fi\n", begin);
