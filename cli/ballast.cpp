@@ -207,11 +207,12 @@ int plot(const std::string& file, const std::string& out, const std::string& tit
   return kOk;
 }
 
-/// `ballast log FILE --info | --to tsv [-o OUT]`: a binary recording's header, or the TSV
-/// recording it converts to.
+/// `ballast log FILE [--info] [--to tsv|csv] [--columns PATTERNS] [--from T] [--to T] [-o OUT]`.
 struct LogOptions {
-  std::string file, out, to;
+  std::string file, out, from;
   bool info = false;
+  std::vector<std::string> to;       // each a format (tsv, csv) or a time, as typed
+  std::vector<std::string> columns;  // shell patterns
 };
 
 /// How much of a column's value a recording keeps: "exact (f64)", "f32" (format 1), or the
@@ -224,18 +225,22 @@ std::string kept(const blog::Column& c) {
   return buf;
 }
 
-/// --info: the header, frames, duration, size and the columns.
+/// --info: the header, frames, duration, size and the (selected) columns.
 int logInfo(const LogOptions& l, const Options& o) {
   std::string error;
   blog::Summary s;
   if (!blog::summarize(l.file, s, error)) return refuse(o, "bad_recording", error);
+  std::vector<std::size_t> selected;
+  if (!blog::selectColumns(s.header.columns, l.columns, selected, error))
+    return refuse(o, "no_such_column", error);
   const double duration = s.frames > 0 ? s.t_last - s.t_first : 0.0;
   const double per_frame = s.frames > 0 ? double(s.bytes) / double(s.frames) : 0.0;
   // What ten minutes of this recording take, at its own frame rate (telemetry.decimation).
   const double mb_per_10min = duration > 0 ? double(s.bytes) / duration * 600.0 / 1e6 : 0.0;
   if (o.json) {
     json cols = json::array();
-    for (const auto& c : s.header.columns) {
+    for (std::size_t i : selected) {
+      const auto& c = s.header.columns[i];
       json col = {{"name", c.name}, {"unit", c.unit}, {"type", blog::typeName(c.type)}};
       if (c.type == blog::Type::kI32) col["resolution"] = c.resolution;
       if (!c.doc.empty()) col["doc"] = c.doc;
@@ -263,30 +268,65 @@ int logInfo(const LogOptions& l, const Options& o) {
               static_cast<unsigned long long>(s.bytes), per_frame, mb_per_10min);
   if (s.truncated)
     std::printf("truncated %s: read up to the last complete block\n", s.truncation.c_str());
-  std::printf("columns   %zu\n", s.header.columns.size());
+  std::printf("columns   %zu%s\n", selected.size(),
+              selected.size() < s.header.columns.size()
+                  ? (" of " + std::to_string(s.header.columns.size())).c_str()
+                  : "");
   std::size_t width = 4;
-  for (const auto& c : s.header.columns) width = std::max(width, c.name.size());
-  for (const auto& c : s.header.columns)
+  for (std::size_t i : selected) width = std::max(width, s.header.columns[i].name.size());
+  for (std::size_t i : selected) {
+    const auto& c = s.header.columns[i];
     std::printf("  %-*s %-6s %-12s%s%s\n", static_cast<int>(width), c.name.c_str(),
                 c.unit.c_str(), kept(c).c_str(), c.doc.empty() ? "" : " ", c.doc.c_str());
+  }
   return kOk;
 }
 
+/// Converts (and slices) a binary recording to TSV or CSV.
 int logCmd(const LogOptions& l, const Options& o) {
-  if (l.info) return logInfo(l, o);
-  if (l.to != "tsv") return usage("ballast log: give --info or --to tsv");
+  blog::Slice slice;
+  slice.columns = l.columns;
+  bool format_given = false, to_given = false;
+  std::string error;
+  for (const std::string& to : l.to) {
+    if (to == "tsv" || to == "csv") {
+      if (format_given) return usage("ballast log: --to names two formats");
+      slice.format = to == "csv" ? blog::Slice::Format::kCsv : blog::Slice::Format::kTsv;
+      format_given = true;
+    } else {
+      if (to_given) return usage("ballast log: --to names two times");
+      if (!cli::parseTime(to, slice.to, error))
+        return usage("--to: " + error + ", or a format (tsv, csv)");
+      to_given = true;
+    }
+  }
+  if (!l.from.empty() && !cli::parseTime(l.from, slice.from, error))
+    return usage("--from: " + error);
+  if (l.info) {
+    if (format_given || to_given || !l.from.empty() || !l.out.empty())
+      return usage("ballast log: --info takes --columns, not --to, --from or -o");
+    return logInfo(l, o);
+  }
+  if (slice.from > slice.to) return usage("ballast log: --from is after --to");
   std::FILE* f = stdout;
   if (!l.out.empty() && l.out != "-") {
     f = std::fopen(l.out.c_str(), "w");
     if (!f) return refuse(o, "io_error", "cannot write " + l.out + ": " + std::strerror(errno));
   }
-  std::string error, truncation;
-  const bool ok = blog::convert(l.file, f, {}, error, &truncation);
+  std::string truncation;
+  std::uint64_t frames = 0;
+  const bool ok = blog::convert(l.file, f, slice, error, &truncation, &frames);
   if (f != stdout) std::fclose(f);
-  if (!ok) return refuse(o, "bad_recording", error);
+  if (!ok) {
+    if (f != stdout) std::remove(l.out.c_str());
+    return refuse(o, error.rfind("no column", 0) == 0 ? "no_such_column" : "bad_recording", error);
+  }
   if (!truncation.empty())
     std::fprintf(stderr, "ballast log: %s is truncated (%s): converted up to its last complete block\n",
                  l.file.c_str(), truncation.c_str());
+  if (frames == 0)
+    std::fprintf(stderr, "ballast log: no frame of %s lies in the window (`ballast log %s --info` "
+                 "shows its times)\n", l.file.c_str(), l.file.c_str());
   return kOk;
 }
 
@@ -383,14 +423,23 @@ int main(int argc, char** argv) {
   plotCmd->add_option("-o,--output", plotOut, "PNG to write")->required();
   plotCmd->add_option("--title", plotTitle, "title above the panels");
 
-  auto* logCmdApp =
-      app.add_subcommand("log", "a binary recording (.blog): its header, or converted to TSV");
+  auto* logCmdApp = app.add_subcommand(
+      "log", "a binary recording (.blog): its header, or converted to TSV or CSV, sliced");
   LogOptions logOpt;
   logCmdApp->add_option("file", logOpt.file, "binary recording (.blog)")->required();
   logCmdApp->add_flag("--info", logOpt.info,
                       "print the header, frames, duration, size and columns (unit, resolution)");
-  logCmdApp->add_option("--to", logOpt.to, "convert to this format (tsv)")
-      ->check(CLI::IsMember({"tsv"}));
+  logCmdApp
+      ->add_option("--to", logOpt.to,
+                   "a format, tsv (default) or csv; or a time: the last frame's t (12, 12.5s, 2min)")
+      ->allow_extra_args(false);
+  logCmdApp
+      ->add_option("--columns", logOpt.columns,
+                   "only these columns (shell patterns, comma-separated: 't,q_*,tau_left_*'); t is "
+                   "always first")
+      ->delimiter(',')
+      ->allow_extra_args(false);
+  logCmdApp->add_option("--from", logOpt.from, "the first frame's t (0, 12.5, 12.5s, 2min)");
   logCmdApp->add_option("-o,--output", logOpt.out, "file to write (default: standard output)");
 
   auto* lease = app.add_subcommand("lease", "the command lease (motion commands need it)");

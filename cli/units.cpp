@@ -38,11 +38,22 @@ bool parseNumber(const std::string& text, double& value, std::string& error) {
   return false;
 }
 
+namespace {
+/// Seconds with an optional unit; "ms" before "s": the first suffix that matches wins.
+bool parseSeconds(const std::string& text, double& seconds) {
+  return parseWithSuffix(text, {{"ms", 1e-3}, {"min", 60.0}, {"s", 1.0}}, seconds);
+}
+}  // namespace
+
 bool parseDuration(const std::string& text, double& seconds, std::string& error) {
-  // "ms" before "s": the first suffix that matches wins.
-  if (parseWithSuffix(text, {{"ms", 1e-3}, {"min", 60.0}, {"s", 1.0}}, seconds) && seconds > 0)
-    return true;
+  if (parseSeconds(text, seconds) && seconds > 0) return true;
   error = "'" + text + "' is not a duration: give seconds, e.g. 3, 2.5s, 500ms or 1min";
+  return false;
+}
+
+bool parseTime(const std::string& text, double& seconds, std::string& error) {
+  if (parseSeconds(text, seconds) && seconds >= 0) return true;
+  error = "'" + text + "' is not a time: give controller seconds, e.g. 0, 12.5, 12.5s or 2min";
   return false;
 }
 
