@@ -675,6 +675,7 @@ void ControlLoop::record() {
   f.command = modes_.command();
   for (int c = 0; c < kNumContacts; ++c) f.contact[c] = input_.state.contact[c];
   for (int i = 0; i < kNumPriorityLevels; ++i) f.task_error[i] = output_.task_error[i];
+  std::memcpy(f.contact_force, output_.contact_force, sizeof f.contact_force);
   f.mpc_ms = have_plan_ ? plan_.solve_ms : 0.0;
   f.wbc_ms = wbc_ms_;
   f.tick_ms = secondsSince(tick_start_) * 1e3;

@@ -122,6 +122,7 @@ void StandController::compute(const ControllerInput& in, const double* kp, const
   const double dr = pose_[1] - st.base.rpy[0], dp = pose_[2] - st.base.rpy[1];
   out.task_error[2] = std::sqrt(dr * dr + dp * dp);
   out.task_error[3] = kNaN;
+  for (auto& f : out.contact_force) f[0] = f[1] = f[2] = kNaN;  // no contact forces of its own
 }
 
 void passiveOutput(int num_joints, const double* q, ControllerOutput& out) {
@@ -131,6 +132,7 @@ void passiveOutput(int num_joints, const double* q, ControllerOutput& out) {
     out.q_ref[j] = q[j];
   }
   for (double& e : out.task_error) e = kNaN;
+  for (auto& f : out.contact_force) f[0] = f[1] = f[2] = kNaN;
 }
 
 void dampOutput(int num_joints, const double* q, double damping, ControllerOutput& out) {

@@ -40,6 +40,7 @@ struct TelemetryFrame {
   BaseCommand command;
   bool contact[kNumContacts] = {};
   double task_error[kNumPriorityLevels] = {};
+  double contact_force[kNumContacts][3] = {};  ///< ControllerOutput::contact_force
   double mpc_ms = 0.0, wbc_ms = 0.0;
   double tick_ms = 0.0;      ///< the tick's work until it was recorded (read through write)
   double lateness_ms = 0.0;  ///< how late the tick began (real time; 0 in lockstep)
@@ -68,10 +69,10 @@ const std::vector<TelemetryColumn>& telemetryTable();
 /// unit, what a recording keeps and the doc).
 std::string telemetryColumnsMan();
 
-/// The most columns a frame has (t, mode, base estimate and truth, command, contacts, task errors,
-/// times, limb error, five values per joint); a test holds it to the table.
+/// The most columns a frame has (t, mode, base estimate and truth, command, contacts and their
+/// forces, task errors, times, limb error, five values per joint); a test holds it to the table.
 inline constexpr std::size_t kMaxTelemetryColumns =
-    2 + 28 + 7 + kNumContacts + kNumPriorityLevels + 5 + 5 * kMaxJoints;
+    2 + 28 + 7 + 4 * kNumContacts + kNumPriorityLevels + 5 + 5 * kMaxJoints;
 
 /// Column names, in file order, for a robot with these joints.
 std::vector<std::string> telemetryColumns(const std::vector<std::string>& joint_names);

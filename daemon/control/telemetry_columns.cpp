@@ -16,6 +16,7 @@
 // - base position and orientation 1e-5 m and rad, velocities 1e-4 m/s and rad/s: 10-100 times
 //   below an IMU's noise (0.01-0.1 deg, a 16-bit gyro's step 1e-3 rad/s at +-2000 deg/s) and
 //   the estimator's millimetres;
+// - contact forces 0.1 N, a foot force sensor's step;
 // - times of work 1 µs (1e-3 ms), as cyclictest reports latencies; the RMS joint error 1e-6
 //   rad, the priority levels' errors 1e-5 (in m/s^2, N or rad: up to 21 km/s^2 or kN).
 // On a MuJoCo walk this took the .blog from 376 bytes per frame (f32) to 132: 80 MB for 10
@@ -107,6 +108,9 @@ const std::vector<TelemetryColumn> kTable = {
   {"cmd_yaw", kOnce, "rad", kF64, 0, "commanded base yaw", [](const TelemetryFrame& f, int) { return f.command.yaw; }},
 
   {"contact_", kContacts, "-", kU8, 0, "1 where the contact point is in contact (estimator): 0 left toe, 1 left heel, 2 right toe, 3 right heel", [](const TelemetryFrame& f, int i) { return f.contact[i] ? 1.0 : 0.0; }},
+  {"fx_", kContacts, "N", kI32, 0.1, "the contact force the whole-body controller asks for at contact point 0..3 (as contact_), on the robot, world frame x; 0 in swing, NaN without the controller", [](const TelemetryFrame& f, int i) { return f.contact_force[i][0]; }},
+  {"fy_", kContacts, "N", kI32, 0.1, "the same along y", [](const TelemetryFrame& f, int i) { return f.contact_force[i][1]; }},
+  {"fz_", kContacts, "N", kI32, 0.1, "the same along z (the normal force on flat ground)", [](const TelemetryFrame& f, int i) { return f.contact_force[i][2]; }},
   {"err_p", kLevels, "-", kI32, 1e-5, "tracking error of priority level 1..4 as the controller defines it (walking: the residual of the level's tasks in their units, m/s^2 and N; standing: 2 the RMS joint error, rad, 3 the base orientation error, rad); NaN where it has no such level", [](const TelemetryFrame& f, int i) { return f.task_error[i]; }},
   {"mpc_ms", kOnce, "ms", kI32, 1e-3, "the MPC's solve time of the plan in force", [](const TelemetryFrame& f, int) { return f.mpc_ms; }},
   {"wbc_ms", kOnce, "ms", kI32, 1e-3, "the whole-body controller's time this tick", [](const TelemetryFrame& f, int) { return f.wbc_ms; }},

@@ -106,6 +106,10 @@ struct ControllerOutput {
   /// the controller defines it; NaN where the controller has no such level.
   double task_error[kNumPriorityLevels] = {kNaN, kNaN, kNaN, kNaN};
   double q_ref[kMaxJoints] = {};  ///< joint reference the controller tracks (telemetry)
+  /// The contact forces the whole-body controller asks for (on the robot, world frame, N; zero
+  /// in swing), per contact point; NaN from a controller without contact forces (telemetry).
+  double contact_force[kNumContacts][3] = {{kNaN, kNaN, kNaN}, {kNaN, kNaN, kNaN},
+                                           {kNaN, kNaN, kNaN}, {kNaN, kNaN, kNaN}};
 };
 
 enum class FaultKind : std::uint8_t {

@@ -45,6 +45,10 @@ wbc::WbcStatus WalkingController::compute(const ControllerInput& in, ControllerO
     out.q_ref[j] = reference_.jointPosition[j];
   }
   for (int i = 0; i < kNumPriorityLevels; ++i) out.task_error[i] = output_.taskError[i];
+  const auto& force = output_.contactForce;
+  for (int c = 0; c < kNumContacts; ++c)
+    for (int k = 0; k < 3; ++k)
+      out.contact_force[c][k] = 3 * c + k < force.size() ? force[3 * c + k] : kNaN;
   return status;
 }
 

@@ -53,7 +53,17 @@ inline const WalkFrames& walkFrames() {
       f.has_truth = true;
       f.command.vx = 0.5;
       f.command.height = 0.84;
-      for (int c = 0; c < control::kNumContacts; ++c) f.contact[c] = ((k / 350) + c / 2) % 2 == 0;
+      int stance = 0;
+      for (int c = 0; c < control::kNumContacts; ++c) {
+        f.contact[c] = ((k / 350) + c / 2) % 2 == 0;
+        stance += f.contact[c];
+      }
+      for (int c = 0; c < control::kNumContacts; ++c) {  // the weight on the stance points
+        const double fz = f.contact[c] ? 800.0 / stance + 30 * noise(rng) : 0.0;
+        f.contact_force[c][0] = f.contact[c] ? 0.1 * fz + 5 * noise(rng) : 0.0;
+        f.contact_force[c][1] = f.contact[c] ? 5 * noise(rng) : 0.0;
+        f.contact_force[c][2] = fz;
+      }
       for (int l = 0; l < control::kNumPriorityLevels; ++l)
         f.task_error[l] = std::abs(1e-3 * (l + 1) * noise(rng));
       f.mpc_ms = 2.1 + 0.2 * std::abs(noise(rng));
