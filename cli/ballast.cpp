@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -192,18 +193,80 @@ int watch(Session& s, const Options& o, double rate, bool joints, int count) {
   return kOk;
 }
 
-int plot(const std::string& file, const std::string& out, const std::string& title,
-         const Options& o) {
-  cli::TelemetryTable table;
+struct PlotRequest {
+  std::string file, out, title, figure = "fig3", from, to;
+};
+
+/// `ballast plot FILE -o OUT.png [--fig NAME] [--from T] [--to T] [--title TEXT]`: a text
+/// recording as it is, a .blog through a TSV of the figure's columns in the window.
+int plot(const PlotRequest& r, const Options& o) {
+  cli::PlotOptions p;
+  p.figure = cli::findFigure(r.figure);
+  if (!p.figure) {
+    std::string names;
+    for (const auto& f : cli::kFigures) names += std::string(names.empty() ? "" : ", ") + f.name;
+    return usage("--fig: no figure '" + r.figure + "' (" + names + ")");
+  }
   std::string error;
-  if (!cli::readTelemetry(file, table, error)) return refuse(o, "bad_recording", error);
-  const std::string script = cli::plotScript(
-      table, file, out, title.empty() ? "ballast: " + fs::path(file).filename().string() : title);
-  if (!cli::runGnuplot(script, error)) return refuse(o, "plot_failed", error);
+  if (!r.from.empty() && !cli::parseTime(r.from, p.from, error)) return usage("--from: " + error);
+  if (!r.to.empty() && !cli::parseTime(r.to, p.to, error)) return usage("--to: " + error);
+  if (p.from > p.to) return usage("ballast plot: --from is after --to");
+  p.title = !r.title.empty() ? r.title
+                             : "ballast: " + fs::path(r.file).filename().string() + ", " + r.figure;
+  std::string data = r.file, temp;
+  std::vector<blog::Group> limbs;
+  if (blog::isBinaryLog(r.file)) {
+    blog::Reader reader;
+    if (!reader.open(r.file, error)) return refuse(o, "bad_recording", error);
+    limbs = reader.header().limbs;
+    blog::Slice slice;
+    slice.from = p.from;
+    slice.to = p.to;
+    // The figure's columns this recording has (an older one may lack some: "no data" panels).
+    std::stringstream patterns(p.figure->columns);
+    std::vector<std::size_t> unused;
+    for (std::string pattern; std::getline(patterns, pattern, ',');)
+      if (blog::selectColumns(reader.header().columns, {pattern}, unused, error))
+        slice.columns.push_back(pattern);
+    if (slice.columns.empty()) slice.columns.push_back("t");
+    temp = (fs::temp_directory_path() / ("ballast-plot-" + std::to_string(::getpid()) + ".tsv"))
+               .string();
+    std::FILE* f = std::fopen(temp.c_str(), "w");
+    if (!f) return refuse(o, "io_error", "cannot write " + temp + ": " + std::strerror(errno));
+    std::string truncation;
+    std::uint64_t frames = 0;
+    const bool ok = blog::convert(r.file, f, slice, error, &truncation, &frames);
+    std::fclose(f);
+    if (!ok || frames == 0) {
+      std::remove(temp.c_str());
+      return refuse(o, "bad_recording",
+                    ok ? "no frame of " + r.file + " lies in the window (`ballast log " + r.file +
+                             " --info` shows its times)"
+                       : error);
+    }
+    if (!truncation.empty())
+      std::fprintf(stderr, "ballast plot: %s is truncated (%s): plotted up to its last complete block\n",
+                   r.file.c_str(), truncation.c_str());
+    data = temp;
+  }
+  cli::TelemetryTable table;
+  if (!cli::readTelemetry(data, table, error)) {
+    if (!temp.empty()) {  // the message names the converted file: say where it came from
+      std::remove(temp.c_str());
+      error = r.file + " (the figure's columns in the window): " + error;
+    }
+    return refuse(o, "bad_recording", error);
+  }
+  table.limbs = limbs;
+  const bool ok = cli::runGnuplot(cli::plotScript(table, data, r.out, p), error);
+  if (!temp.empty()) std::remove(temp.c_str());
+  if (!ok) return refuse(o, "plot_failed", error);
   if (o.json)
-    std::cout << json{{"ok", true}, {"output", out}, {"frames", table.rows}}.dump() << "\n";
+    std::cout << json{{"ok", true}, {"output", r.out}, {"figure", r.figure}, {"frames", table.rows}}.dump()
+              << "\n";
   else
-    std::printf("plot: %s (%zu frames from %s)\n", out.c_str(), table.rows, file.c_str());
+    std::printf("plot: %s (%s, %zu frames from %s)\n", r.out.c_str(), r.figure.c_str(), table.rows,
+                r.file.c_str());
   return kOk;
 }
 
@@ -417,11 +480,18 @@ int main(int argc, char** argv) {
       ->required();
   record->add_subcommand("stop", cli::help("record_stop"));
 
-  auto* plotCmd = app.add_subcommand("plot", "plot a recording like the paper's Fig. 3 (PNG)");
-  std::string plotFile, plotOut, plotTitle;
-  plotCmd->add_option("file", plotFile, "telemetry recording")->required();
-  plotCmd->add_option("-o,--output", plotOut, "PNG to write")->required();
-  plotCmd->add_option("--title", plotTitle, "title above the panels");
+  auto* plotCmd = app.add_subcommand(
+      "plot", "plot a recording (.tsv or .blog) as a PNG: the paper's Fig. 3 or another figure");
+  PlotRequest plotReq;
+  plotCmd->add_option("file", plotReq.file, "telemetry recording (text or .blog)")->required();
+  plotCmd->add_option("-o,--output", plotReq.out, "PNG to write")->required();
+  std::string figures;
+  for (const auto& f : cli::kFigures)
+    figures += std::string(figures.empty() ? "" : "; ") + f.name + ": " + f.doc;
+  plotCmd->add_option("--fig", plotReq.figure, "the figure (default fig3): " + figures);
+  plotCmd->add_option("--from", plotReq.from, "the window's first t (0, 12.5, 12.5s, 2min)");
+  plotCmd->add_option("--to", plotReq.to, "the window's last t");
+  plotCmd->add_option("--title", plotReq.title, "title above the panels");
 
   auto* logCmdApp = app.add_subcommand(
       "log", "a binary recording (.blog): its header, or converted to TSV or CSV, sliced");
@@ -581,7 +651,7 @@ int main(int argc, char** argv) {
                                r["path"].get<std::string>().c_str());
                  });
   }
-  if (name == "plot") return plot(plotFile, plotOut, plotTitle, o);
+  if (name == "plot") return plot(plotReq, o);
   if (name == "log") return logCmd(logOpt, o);
   if (name == "lease") {
     const std::string what = sub(verb);

@@ -279,7 +279,13 @@ bool Writer::open(const std::string& path, const Header& h, std::string& error) 
   std::ostringstream text;
   text << "format " << kFormatVersion << "\nprofile " << h.profile << "\nrobot " << h.robot
        << "\nstart_unix_ns " << h.start_unix_ns << "\nstart_utc " << utcTime(h.start_unix_ns)
-       << "\nframes_per_block " << h.frames_per_block << "\ncolumns " << h.columns.size() << '\n';
+       << "\nframes_per_block " << h.frames_per_block << '\n';
+  for (const Group& limb : h.limbs) {
+    text << "limb " << limb.name;
+    for (const std::string& j : limb.members) text << ' ' << j;
+    text << '\n';
+  }
+  text << "columns " << h.columns.size() << '\n';
   for (const Column& c : h.columns) {
     text << "column " << c.name << ' ' << (c.unit.empty() ? "-" : c.unit) << ' '
          << typeName(c.type) << ' ';
@@ -389,6 +395,15 @@ std::uint64_t Writer::close() {
 
 // ---- reading
 
+bool isBinaryLog(const std::string& path) {
+  unsigned char head[8] = {};
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return false;
+  const bool magic = std::fread(head, 1, 8, f) == 8 && std::memcmp(head, kMagic, 8) == 0;
+  std::fclose(f);
+  return magic;
+}
+
 Reader::~Reader() {
   if (file_) std::fclose(file_);
 }
@@ -438,6 +453,13 @@ bool Reader::open(const std::string& path, std::string& error) {
     else if (key == "start_unix_ns") header_.start_unix_ns = std::atoll(value.c_str());
     else if (key == "frames_per_block") header_.frames_per_block = std::atoi(value.c_str());
     else if (key == "columns") declared = std::strtoul(value.c_str(), nullptr, 10);
+    else if (key == "limb") {
+      std::istringstream words(value);
+      Group g;
+      words >> g.name;
+      for (std::string j; words >> j;) g.members.push_back(j);
+      header_.limbs.push_back(g);
+    }
     else if (key == "column") {
       std::istringstream cols(value);
       Column c;

@@ -5,7 +5,8 @@
 //   header = magic "\x89BLOG\r\n\x1a" (8 bytes), u32 format version, u32 text length,
 //            text, u32 CRC-32 of the text
 //   text   = lines "key value": format, profile, robot, start_unix_ns, start_utc,
-//            frames_per_block, columns N, then N lines "column NAME UNIT TYPE RESOLUTION DOC" in
+//            frames_per_block, "limb NAME JOINT..." (format 2: the robot's limbs, each the
+//            joints from its root out, for per-limb plots), columns N, then N lines "column NAME UNIT TYPE RESOLUTION DOC" in
 //            frame order: TYPE f64, u8, i32 or f32; RESOLUTION the step of an i32 column (in
 //            UNIT), "-" for the others; DOC the rest of the line (format 1: "column NAME UNIT
 //            TYPE", no i32)
@@ -83,9 +84,16 @@ class TextFormat {
   std::vector<Cell> cells_;
 };
 
+/// Named lists of the recording's joints (the robot's limbs, for plots).
+struct Group {
+  std::string name;
+  std::vector<std::string> members;
+};
+
 struct Header {
   std::uint32_t version = kFormatVersion;
   std::string profile, robot;
+  std::vector<Group> limbs;  ///< "limb NAME JOINT..." lines: joint chains out to each leaf
   std::int64_t start_unix_ns = 0;
   std::uint32_t frames_per_block = 1000;
   std::vector<Column> columns;
@@ -118,6 +126,9 @@ class Writer {
   void* cctx_ = nullptr;
   std::uint64_t frames_ = 0, bytes_ = 0;
 };
+
+/// Whether path starts with a .blog's magic bytes (a text recording does not).
+bool isBinaryLog(const std::string& path);
 
 /// Reads a .blog block by block.
 class Reader {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstring>
 
+#include "model/limbs.hpp"
 
 namespace ballast::control {
 
@@ -40,6 +41,16 @@ std::string columnName(const TelemetryColumn& row, int i, const std::vector<std:
 }
 
 }  // namespace
+
+RecordingInfo recordingInfo(const std::string& profile, const model::Model& model) {
+  RecordingInfo info{profile, model.name, {}};
+  for (const model::Limb& limb : model::limbs(model)) {
+    blog::Group g{limb.name, {}};
+    for (int j : limb.joints) g.members.push_back(model.jointName[j + 1]);
+    info.limbs.push_back(g);
+  }
+  return info;
+}
 
 std::vector<std::string> telemetryColumns(const std::vector<std::string>& joints) {
   std::vector<std::string> out;
@@ -112,6 +123,7 @@ bool TelemetryWriter::startRecording(const std::string& path, std::string& error
     blog::Header h;
     h.profile = info.profile.empty() ? "-" : info.profile;
     h.robot = info.robot.empty() ? "-" : info.robot;
+    h.limbs = info.limbs;
     h.start_unix_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
                           std::chrono::system_clock::now().time_since_epoch())
                           .count();

@@ -28,6 +28,10 @@
 #include "control/spsc_ring.hpp"
 #include "control/types.hpp"
 
+namespace ballast::model {
+struct Model;
+}
+
 namespace ballast::control {
 
 struct TelemetryFrame {
@@ -89,7 +93,10 @@ void formatTelemetryLine(const TelemetryFrame& frame, const blog::TextFormat& fo
 /// What a recording's .blog header says besides the columns.
 struct RecordingInfo {
   std::string profile, robot;
+  std::vector<blog::Group> limbs;  ///< by joint name
 };
+/// The profile's name and the model's robot and limbs (model::limbs).
+RecordingInfo recordingInfo(const std::string& profile, const model::Model& model);
 
 class TelemetryWriter {
  public:

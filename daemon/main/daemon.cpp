@@ -156,7 +156,8 @@ void Daemon::startTelemetry() {
   writer_->start();
   if (const std::string& file = settings_.record_on_start; !file.empty()) {
     std::string why;
-    if (!writer_->startRecording(file, why))
+    if (!writer_->startRecording(file, why,
+                                 control::recordingInfo(context_.profile->name(), *model_)))
       throw StartupError(context_.profile->problem(profile::keyOf(settings_, &settings_.record_on_start), why));
   }
 }

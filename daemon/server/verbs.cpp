@@ -133,8 +133,7 @@ void Server::recordStart(Client& c, const Request& r) {
     return;
   }
   control::RecordingInfo info;
-  if (ctx_.profile) info.profile = ctx_.profile->name();
-  if (ctx_.model) info.robot = ctx_.model->name;
+  if (ctx_.model) info = control::recordingInfo(ctx_.profile ? ctx_.profile->name() : "", *ctx_.model);
   if (!ctx_.writer->startRecording(path, error, info)) {
     fail(c.fd, r.id, ctx_.writer->recording() ? protocol::kRefused : protocol::kIoError, error);
     return;

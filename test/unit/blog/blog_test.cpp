@@ -34,6 +34,7 @@ Header header(std::uint32_t per_block) {
   h.robot = "humanoid";
   h.start_unix_ns = 1764020882123456789;
   h.frames_per_block = per_block;
+  h.limbs = {{"left_foot", {"left_hip", "left_knee"}}, {"right_foot", {"right_knee"}}};
   h.columns = {column("t", "s", Type::kF64, 0, "controller time"), column("mode", "-", Type::kU8),
                column("q_knee", "rad", Type::kF32),
                column("tau_knee", "N*m", Type::kI32, 0.01, "joint torque, measured")};
@@ -76,6 +77,10 @@ TEST(Blog, RoundTripsEveryColumnInItsType) {
   EXPECT_EQ(r.header().profile, "sim-flat");
   EXPECT_EQ(r.header().robot, "humanoid");
   EXPECT_EQ(r.header().start_unix_ns, 1764020882123456789);
+  ASSERT_EQ(r.header().limbs.size(), 2u);
+  EXPECT_EQ(r.header().limbs[0].name, "left_foot");
+  EXPECT_EQ(r.header().limbs[0].members, (std::vector<std::string>{"left_hip", "left_knee"}));
+  EXPECT_EQ(r.header().limbs[1].members, (std::vector<std::string>{"right_knee"}));
   ASSERT_EQ(r.header().columns.size(), 4u);
   EXPECT_EQ(r.header().columns[3].name, "tau_knee");
   EXPECT_EQ(r.header().columns[3].unit, "N*m");

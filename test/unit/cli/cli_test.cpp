@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 
 #include "cli/client.hpp"
@@ -97,15 +98,61 @@ TEST_F(Plot, ReadsARecordingAndPlotsOnlySeriesWithData) {
   EXPECT_EQ(t.column("v_fwd"), 3);
   EXPECT_TRUE(t.has_data[2]);
   EXPECT_FALSE(t.has_data[3]);  // no ground truth in this one
-  const std::string g = plotScript(t, path_, "/tmp/x.png", "title");
+  EXPECT_DOUBLE_EQ(t.max[2], 0.11);
+  PlotOptions o;
+  o.title = "title";
+  const std::string g = plotScript(t, path_, "/tmp/x.png", o);
   EXPECT_NE(g.find("set terminal pngcairo"), std::string::npos);
   EXPECT_NE(g.find("set multiplot layout 2,3"), std::string::npos);
   for (const char* panel : {"(a) velocity tracking", "(b) limb tracking error", "(c) height",
                             "(d) roll", "(e) pitch", "(f) yaw"})
     EXPECT_NE(g.find(panel), std::string::npos) << panel;
-  EXPECT_NE(g.find("using 1:3 with lines"), std::string::npos);       // v_fwd
-  EXPECT_EQ(g.find("using 1:4 with lines"), std::string::npos);       // true_v_fwd: all NaN
+  EXPECT_NE(g.find("using 1:($3) with lines"), std::string::npos);     // v_fwd
+  EXPECT_EQ(g.find("using 1:($4) with lines"), std::string::npos);     // true_v_fwd: all NaN
   EXPECT_NE(g.find("no data in this recording"), std::string::npos);  // (b): limb_err all NaN
+}
+
+TEST_F(Plot, EachFigureHasItsPanels) {
+  std::ofstream(path_)
+      << "# ballast telemetry 1\n# t\tcontact_0\tcontact_1\tfz_0\tfz_1\tfx_0\tfx_1\tfy_0\tfy_1"
+         "\tmpc_ms\twbc_ms\ttick_ms\tlateness_ms\tq_hip\tqref_hip\tq_knee\tqref_knee\n"
+      << "0\t1\t0\t300\t0\t10\t0\t2\t0\t2.5\t0.3\t0.5\t0.012\t0.1\t0.11\t0.5\t0.52\n"
+      << "0.001\t1\t1\t250\t60\t9\t1\t2\t0\t2.5\t0.31\t0.52\t0.06\t0.1\t0.1\t0.5\t0.5\n";
+  TelemetryTable t;
+  std::string error;
+  ASSERT_TRUE(readTelemetry(path_, t, error)) << error;
+  PlotOptions o;
+  o.from = 0.0005;
+  const std::map<std::string, std::vector<std::string>> panels = {
+      {"contacts",
+       {"(a) left foot: normal force", "(b) right foot: normal force", "(c) contact schedule",
+        "(d) friction used"}},
+      {"timing", {"(a) solve times", "(b) tick work and lateness", "(c) tick lateness",
+                  "(d) solve times"}},
+      {"joints", {"(a) joints 1-2"}}};
+  for (const auto& [name, titles] : panels) {
+    o.figure = findFigure(name);
+    ASSERT_NE(o.figure, nullptr) << name;
+    const std::string g = plotScript(t, path_, "/tmp/x.png", o);
+    for (const std::string& title : titles) EXPECT_NE(g.find(title), std::string::npos) << title;
+    EXPECT_NE(g.find("set xrange [0.0005:*]"), std::string::npos) << name;  // the window
+  }
+  o.figure = findFigure("contacts");
+  std::string g = plotScript(t, path_, "/tmp/x.png", o);
+  EXPECT_NE(g.find("using 1:($4 + $5)"), std::string::npos) << g;  // the left foot's sum
+  EXPECT_NE(g.find("'no data in this recording'"), std::string::npos);  // (b): no right foot
+  o.figure = findFigure("timing");
+  g = plotScript(t, path_, "/tmp/x.png", o);
+  // 60 bins up to the largest lateness, 0.06 ms: 1 µs.
+  EXPECT_NE(g.find("using (inwin($1) ? bin(($13), 0.001) : NaN):(1) smooth frequency"),
+            std::string::npos) << g;
+  o.figure = findFigure("joints");
+  t.limbs = {{"left_leg", {"hip", "knee"}}};
+  g = plotScript(t, path_, "/tmp/x.png", o);
+  EXPECT_NE(g.find("(a) left_leg"), std::string::npos);
+  EXPECT_NE(g.find("using 1:(($14 - $15)*180/pi) with lines"), std::string::npos) << g;
+  EXPECT_NE(g.find("title 'knee'"), std::string::npos);
+  EXPECT_EQ(findFigure("nope"), nullptr);
 }
 
 TEST_F(Plot, RefusesWhatIsNotARecording) {

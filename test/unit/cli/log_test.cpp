@@ -1,5 +1,6 @@
-// `ballast log` through the CLI (the built binary, no daemon): --info, --to tsv|csv, --columns,
-// --from/--to windows, -o, and what it says about bad values, on a .blog written here.
+// `ballast log` and `ballast plot` through the CLI (the built binary, no daemon), on recordings
+// written here: --info, --to tsv|csv, --columns, --from/--to windows, -o, each figure of a .blog
+// and a text recording, and what they say about bad values.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -7,6 +8,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <map>
 
 #include "blog/blog.hpp"
 #include "test/unit/run_program.hpp"
@@ -198,6 +201,112 @@ TEST_F(Log, ATruncatedFileConvertsItsCompleteBlocksWithAWarning) {
   EXPECT_EQ(r.status, 0);
   EXPECT_EQ(split(r.out, '\n').size(), 1u + 2000);
   EXPECT_NE(r.err.find("truncated"), std::string::npos) << r.err;
+}
+
+/// A short walk-like recording with every figure's columns and the robot's limbs.
+class PlotCli : public Log {
+ protected:
+  void SetUp() override {
+    Log::SetUp();
+    blog_ = (dir_ / "robot.blog").string();
+    script_ = (dir_ / "plot.gp").string();
+    blog::Header h;
+    h.limbs = {{"left_foot", {"left_hip", "left_knee"}}, {"right_foot", {"right_hip"}}};
+    auto col = [](const std::string& name, double resolution) {
+      return blog::Column{name, "-", resolution > 0 ? blog::Type::kI32 : blog::Type::kF64,
+                          resolution, ""};
+    };
+    std::vector<std::string> names = {"t", "v_fwd", "cmd_vx", "limb_err", "z", "roll", "pitch",
+                                      "yaw", "mpc_ms", "wbc_ms", "tick_ms", "lateness_ms"};
+    for (const char* prefix : {"contact_", "fx_", "fy_", "fz_"})
+      for (int i = 0; i < 4; ++i) names.push_back(prefix + std::to_string(i));
+    for (const char* prefix : {"q_", "qref_"})
+      for (const char* j : {"left_hip", "left_knee", "right_hip"}) names.push_back(prefix + std::string(j));
+    for (const auto& n : names) h.columns.push_back(col(n, n == "t" ? 0 : 1e-4));
+    blog::Writer w;
+    std::string error;
+    ASSERT_TRUE(w.open(blog_, h, error)) << error;
+    std::vector<double> v(names.size());
+    for (int i = 0; i < 2000; ++i) {
+      const double t = 0.001 * i;
+      for (std::size_t c = 1; c < names.size(); ++c) v[c] = std::sin(t * c) + (c % 3 == 0 ? 0.5 : 0);
+      v[0] = t;
+      for (int k = 0; k < 4; ++k) v[12 + k] = (i / 400 + k / 2) % 2;  // contacts
+      w.append(v.data());
+    }
+    w.close();
+  }
+
+  /// ballast plot ARGS, gnuplot's script kept in script_.
+  Outcome plot(std::vector<std::string> args) {
+    args.insert(args.begin(), {BALLAST, "plot"});
+    return test::runProgram(args, {"BALLAST_GNUPLOT=tee " + script_ + " | gnuplot"});
+  }
+  std::string script() const {
+    std::ifstream in(script_);
+    return {std::istreambuf_iterator<char>(in), {}};
+  }
+
+  std::string blog_, script_;
+};
+
+TEST_F(PlotCli, EachFigureOfABinaryRecording) {
+  const std::map<std::string, std::vector<std::string>> panels = {
+      {"fig3", {"(a) velocity tracking", "(b) limb tracking error", "(c) height", "(d) roll",
+                "(e) pitch", "(f) yaw"}},
+      {"contacts", {"(a) left foot: normal force", "(b) right foot: normal force",
+                    "(c) contact schedule", "(d) friction used"}},
+      {"timing", {"(a) solve times", "(b) tick work and lateness", "(c) tick lateness",
+                  "(d) solve times"}},
+      {"joints", {"(a) left_foot", "(b) right_foot"}}};
+  for (const auto& [figure, titles] : panels) {
+    const std::string png = (dir_ / (figure + ".png")).string();
+    const Outcome r = plot({blog_, "--fig", figure, "-o", png});
+    ASSERT_EQ(r.status, 0) << figure << ": " << r.err;
+    EXPECT_NE(r.out.find("2000 frames"), std::string::npos) << r.out;
+    std::ifstream image(png, std::ios::binary);
+    std::string magic(4, '\0');
+    image.read(magic.data(), 4);
+    EXPECT_EQ(magic.substr(1, 3), "PNG") << figure;
+    const std::string g = script();
+    for (const auto& title : titles) EXPECT_NE(g.find(title), std::string::npos) << title;
+    EXPECT_EQ(g.find("no data in this recording"), std::string::npos) << figure;
+  }
+  // The temporary conversion is gone.
+  for (const auto& e : std::filesystem::directory_iterator(std::filesystem::temp_directory_path()))
+    EXPECT_EQ(e.path().filename().string().rfind("ballast-plot-" + std::to_string(getpid()), 0),
+              std::string::npos);
+}
+
+TEST_F(PlotCli, AWindowOfABinaryOrATextRecording) {
+  const std::string png = (dir_ / "w.png").string(), tsv = (dir_ / "robot.tsv").string();
+  Outcome r = plot({blog_, "--fig", "contacts", "--from", "0.5", "--to", "1s", "-o", png});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("501 frames"), std::string::npos) << r.out;  // 0.5 .. 1.0 converted
+  ASSERT_EQ(test::runProgram({BALLAST, "log", blog_, "-o", tsv}).status, 0);
+  r = plot({tsv, "--fig", "timing", "--from", "500ms", "--to", "1", "-o", png});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string g = script();
+  EXPECT_NE(g.find("set xrange [0.5:1]"), std::string::npos);  // gnuplot windows the text
+  EXPECT_NE(g.find("tmin = 0.5\ntmax = 1\n"), std::string::npos);  // and the histograms
+  r = plot({tsv, "--fig", "joints", "-o", png});  // no limbs in a text recording
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(script().find("(a) joints 1-3"), std::string::npos);
+}
+
+TEST_F(PlotCli, BadFiguresAndEmptyWindowsAreSaidSo) {
+  const std::string png = (dir_ / "x.png").string();
+  Outcome r = plot({blog_, "--fig", "nope", "-o", png});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("fig3, contacts, timing, joints"), std::string::npos) << r.err;
+  r = plot({blog_, "--from", "5", "-o", png});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("no frame"), std::string::npos) << r.err;
+  r = plot({blog_, "--from", "2", "--to", "1", "-o", png});
+  EXPECT_EQ(r.status, 2);
+  r = plot({file_, "--fig", "contacts", "-o", png});  // a recording without those columns
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(script().find("no data in this recording"), std::string::npos);
 }
 
 }  // namespace

@@ -526,7 +526,7 @@ TEST_F(LoopOnFake, BinaryAndTextRecordingsOfTheSameLockstepRunAgree) {
     loop_->setTelemetryWriter(&writer);
     writer.start();
     std::string error;
-    ASSERT_TRUE(writer.startRecording(file, error, {"sim-flat", "humanoid"})) << error;
+    ASSERT_TRUE(writer.startRecording(file, error, {"sim-flat", "humanoid", {}})) << error;
     ASSERT_TRUE(standUp());
     OperatorCommand c;
     c.kind = CommandKind::kPose;

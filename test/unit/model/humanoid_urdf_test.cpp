@@ -9,6 +9,7 @@
 #include <regex>
 #include <sstream>
 
+#include "model/limbs.hpp"
 #include "test/unit/test_support.hpp"
 
 namespace ballast::test {
@@ -93,6 +94,25 @@ TEST_F(HumanoidUrdf, JointsAndLimits) {
                           "shoulder_pitch", "shoulder_roll", "shoulder_yaw", "elbow", "wrist_yaw",
                           "wrist_pitch"})
       EXPECT_TRUE(urdf_->getJoint(std::string(side) + j)) << side << j;
+}
+
+TEST_F(HumanoidUrdf, FourLimbsOfSixJointsFromTheRootOut) {
+  const model::Model& m = humanoid();
+  const auto limbs = model::limbs(m);
+  ASSERT_EQ(limbs.size(), 4u);
+  std::vector<std::string> names, firsts, lasts;
+  for (const auto& limb : limbs) {
+    EXPECT_EQ(limb.joints.size(), 6u) << limb.name;
+    names.push_back(limb.name);
+    firsts.push_back(m.jointName[limb.joints.front() + 1]);
+    lasts.push_back(m.jointName[limb.joints.back() + 1]);
+  }
+  EXPECT_EQ(names[0], "left_foot");
+  EXPECT_EQ(names[1], "right_foot");
+  EXPECT_EQ(firsts, (std::vector<std::string>{"left_hip_yaw", "right_hip_yaw",
+                                              "left_shoulder_pitch", "right_shoulder_pitch"}));
+  EXPECT_EQ(lasts, (std::vector<std::string>{"left_ankle_roll", "right_ankle_roll",
+                                             "left_wrist_pitch", "right_wrist_pitch"}));
 }
 
 TEST_F(HumanoidUrdf, ContactPointsLieOnTheSoleOfABoxFoot) {
