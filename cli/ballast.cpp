@@ -250,7 +250,7 @@ int plot(const PlotRequest& r, const Options& o) {
     data = temp;
   }
   cli::TelemetryTable table;
-  if (!cli::readTelemetry(data, table, error)) {
+  if (!cli::readTelemetry(data, table, error, p.from, p.to)) {
     if (!temp.empty()) {  // the message names the converted file: say where it came from
       std::remove(temp.c_str());
       error = r.file + " (the figure's columns in the window): " + error;

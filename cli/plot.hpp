@@ -28,9 +28,11 @@ struct TelemetryTable {
   int column(const std::string& name) const;  ///< 1-based (gnuplot's), 0 if absent
 };
 
-/// Reads the header and scans the rows of a text recording; false with a message for a file
-/// that is not one.
-bool readTelemetry(const std::string& path, TelemetryTable& table, std::string& error);
+/// Reads the header and scans the rows of a text recording whose t lies in [from, to] (rows,
+/// has_data and max count those); false with a message for a file that is not one, or no row in
+/// the window.
+bool readTelemetry(const std::string& path, TelemetryTable& table, std::string& error,
+                   double from = -1.0 / 0.0, double to = 1.0 / 0.0);
 
 struct Figure {
   const char* name;

@@ -153,6 +153,21 @@ TEST_F(Plot, EachFigureHasItsPanels) {
   EXPECT_NE(g.find("using 1:(($14 - $15)*180/pi) with lines"), std::string::npos) << g;
   EXPECT_NE(g.find("title 'knee'"), std::string::npos);
   EXPECT_EQ(findFigure("nope"), nullptr);
+  // A long recording's time panels draw 1 frame in N, no more than 50 000; the timing figure
+  // draws every frame.
+  t.rows = 120000;
+  g = plotScript(t, path_, "/tmp/x.png", o);
+  EXPECT_NE(g.find("every 3 using 1:(($14 - $15)*180/pi)"), std::string::npos) << g;
+  EXPECT_NE(g.find("(1 frame in 3 drawn)"), std::string::npos);
+  o.figure = findFigure("timing");
+  EXPECT_EQ(plotScript(t, path_, "/tmp/x.png", o).find("every "), std::string::npos);
+  // Only the rows of a window count.
+  TelemetryTable w;
+  ASSERT_TRUE(readTelemetry(path_, w, error, 0.0005, 1)) << error;
+  EXPECT_EQ(w.rows, 1u);
+  EXPECT_DOUBLE_EQ(w.max[3], 250);  // fz_0 of the second row only
+  EXPECT_FALSE(readTelemetry(path_, w, error, 2, 3));
+  EXPECT_NE(error.find("no frame"), std::string::npos) << error;
 }
 
 TEST_F(Plot, RefusesWhatIsNotARecording) {
