@@ -27,7 +27,12 @@ std::string dlerrorText() {
 
 }  // namespace
 
-std::string pluginFileName(const std::string& name) { return "libballast_backend_" + name + ".so"; }
+namespace {
+constexpr const char* kFilePrefix = "libballast_backend_";
+constexpr const char* kFileSuffix = ".so";
+}  // namespace
+
+std::string pluginFileName(const std::string& name) { return kFilePrefix + name + kFileSuffix; }
 
 std::vector<std::string> defaultPluginDirs() {
   std::vector<std::string> dirs;
@@ -49,7 +54,7 @@ std::vector<std::string> defaultPluginDirs() {
 }
 
 std::vector<std::string> availablePlugins() {
-  const std::string prefix = "libballast_backend_", suffix = ".so";
+  const std::string prefix = kFilePrefix, suffix = kFileSuffix;
   std::set<std::string> names;
   for (const std::string& dir : defaultPluginDirs()) {
     std::error_code error;

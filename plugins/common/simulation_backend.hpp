@@ -113,13 +113,14 @@ class SimulationBackend : public backend::Backend {
     // a host stall within the step is not counted twice.
     pacer_.pause(threadRun().cpu - runAtAdvance.cpu - kSimulationShare * period_);
     host_.delay(world_->time());
-    const double work = secondsBetween(begin, monotonicNow());
+    const timespec worked = monotonicNow();
+    const ThreadRun run = threadRun();
+    const double work = secondsBetween(begin, worked);
     // The host's share of this tick's work: its wall time beyond its CPU time, unless the
     // thread blocked (then the time is the controller's, or an injected delay's).
     double hostStall = 0.0;
-    const ThreadRun run = threadRun();
     if (tickBegan_.tv_sec != 0 && run.voluntary_switches == runAtTick_.voluntary_switches) {
-      const double stolen = secondsBetween(tickBegan_, monotonicNow()) - (run.cpu - runAtTick_.cpu);
+      const double stolen = secondsBetween(tickBegan_, worked) - (run.cpu - runAtTick_.cpu);
       if (stolen > kSimulationShare * period_) hostStall = stolen;
     }
     pacer_.pause(hostStall);
