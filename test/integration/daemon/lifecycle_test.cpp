@@ -61,23 +61,14 @@ TEST(Lifecycle, MissingPluginAndBadUrdfAreNamed) {
 }
 
 #if HAVE_SIMBODY
-/// sim-flat on the generated humanoid without frame links: the profile places the contact
-/// points, the IMU and the simulation's IMU and lidar on the feet, pelvis and head.
+/// sim-flat on the generated humanoid without frame links (profiles/vendor-frames.yaml places the
+/// contact points and the IMUs), the simulation's lidar at lidarFrame.
 std::string vendorProfile(const fs::path& dir, const std::string& lidarFrame) {
-  return writeFile(dir / "vendor.yaml", "extends: " + std::string(SIM_PROFILE) + R"(
-robot:
-  urdf: )" + std::string(VENDOR_URDF) + R"(
-  contact_frames:
-    - {link: left_foot, offset: [0.13, 0, -0.06]}
-    - {link: left_foot, offset: [-0.07, 0, -0.06]}
-    - {link: right_foot, offset: [0.13, 0, -0.06]}
-    - {link: right_foot, offset: [-0.07, 0, -0.06]}
-  imu_frame: {link: pelvis, offset: [0, 0, 0.04]}
-backend:
-  simbody:
-    imu: {frame: {link: pelvis, offset: [0, 0, 0.04]}}
-    lidar:
-      frame: )" + lidarFrame + "\n");
+  return writeFile(dir / "vendor.yaml", "extends: " + std::string(BALLAST_SOURCE_DIR) +
+                                            "/test/integration/daemon/profiles/vendor-frames.yaml"
+                                            "\nrobot:\n  urdf: " + std::string(VENDOR_URDF) +
+                                            "\nbackend:\n  simbody:\n    lidar:\n      frame: " +
+                                            lidarFrame + "\n");
 }
 
 // --check validates what a start would, the backend's own section included (through the
@@ -92,7 +83,7 @@ TEST(Check, ChecksTheBackendsSectionThroughItsPlugin) {
   const std::string bad = vendorProfile(dir, "lidar");
   const Outcome refused = runProgram({BALLASTD, "--check", "--profile", bad});
   EXPECT_EQ(refused.status, 1) << refused.out;
-  EXPECT_NE(refused.err.find(bad + ":14:7: lidar.frame: "), std::string::npos) << refused.err;
+  EXPECT_NE(refused.err.find(bad + ":7:7: lidar.frame: "), std::string::npos) << refused.err;
   EXPECT_NE(refused.err.find("has no link 'lidar'; closest: "), std::string::npos) << refused.err;
   fs::remove_all(dir);
 }

@@ -15,28 +15,23 @@ namespace {
 namespace fs = std::filesystem;
 
 /// sim-flat on a generated URDF without toe, heel, IMU and lidar links: the profile places those
-/// frames on the feet, the pelvis and the head, and locks both wrist_yaw joints straight.
+/// frames on the feet, the pelvis (test/integration/daemon/profiles/vendor-frames.yaml) and the
+/// head, and locks both wrist_yaw joints straight.
 std::string vendorProfile(const std::string& urdf) {
   const fs::path dir = fs::temp_directory_path() /
                        ("ballast-robot-test-" + std::to_string(getpid()) + "-" +
                         ::testing::UnitTest::GetInstance()->current_test_info()->name());
   fs::create_directories(dir);
   const std::string path = (dir / "robot.yaml").string();
-  std::ofstream(path) << "extends: " << BALLAST_SOURCE_DIR << "/profiles/sim-flat.yaml\n"
+  std::ofstream(path) << "extends: " << BALLAST_SOURCE_DIR
+                      << "/test/integration/daemon/profiles/vendor-frames.yaml\n"
                       << "robot:\n  urdf: " << TEST_URDF_DIR << "/" << urdf << ".urdf\n" << R"(
-  contact_frames:
-    - {link: left_foot, offset: [0.13, 0, -0.06]}
-    - {link: left_foot, offset: [-0.07, 0, -0.06]}
-    - {link: right_foot, offset: [0.13, 0, -0.06]}
-    - {link: right_foot, offset: [-0.07, 0, -0.06]}
-  imu_frame: {link: pelvis, offset: [0, 0, 0.04]}
   locked_joints: {left_wrist_yaw: 0, right_wrist_yaw: 0}
   joint_groups:
     arms: [left_shoulder_pitch, left_shoulder_roll, left_shoulder_yaw, left_elbow, left_wrist_pitch,
            right_shoulder_pitch, right_shoulder_roll, right_shoulder_yaw, right_elbow, right_wrist_pitch]
 backend:
   simbody:
-    imu: {frame: {link: pelvis, offset: [0, 0, 0.04]}}
     lidar: {frame: {link: head, offset: [0.08, 0, 0.10]}}
 )";
   return path;
