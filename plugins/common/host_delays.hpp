@@ -2,7 +2,9 @@
 // deadline policy in real time: one stall at a given simulated time, and jitter (a delay on a
 // random fraction of the ticks from a given time on). The delay happens inside advance(),
 // before the pacing, as a slow tick's work would. Its random draws have their own generator, so
-// turning it on changes no other noise of the simulation.
+// turning it on changes no other noise of the simulation. A delay says how long it was asked to
+// sleep and how long it took, so that the host keeping the thread asleep longer (a late wake-up)
+// is told apart from the delay the test asked for.
 #pragma once
 
 #include <time.h>
@@ -12,7 +14,17 @@
 #include <cstdint>
 #include <random>
 
+#include "tick_pacer.hpp"
+
 namespace ballast::plugin {
+
+/// The delays of one tick: the sleep asked for (s), the wall time it took (s), and the thread's
+/// voluntary context switches in it (the sleep's own; they do not mean the tick's work blocked).
+struct InjectedDelay {
+  double requested = 0.0;
+  double wall = 0.0;
+  long voluntary_switches = 0;
+};
 
 class HostDelays {
  public:
@@ -28,13 +40,21 @@ class HostDelays {
     stalled_ = false;
   }
   /// Called once per tick at simulated time t; sleeps if a delay is due.
-  void delay(double t) {
+  InjectedDelay delay(double t) {
+    InjectedDelay d;
     if (stall_at_ >= 0.0 && !stalled_ && t >= stall_at_) {
       stalled_ = true;
-      sleep(stall_);
+      d.requested += stall_;
     }
     if (jitter_fraction_ > 0.0 && t >= jitter_from_ && uniform_(random_) < jitter_fraction_)
-      sleep(jitter_);
+      d.requested += jitter_;
+    if (d.requested <= 0.0) return d;
+    const timespec began = monotonicNow();
+    const ThreadRun before = threadRun();
+    sleep(d.requested);
+    d.voluntary_switches = threadRun().voluntary_switches - before.voluntary_switches;
+    d.wall = secondsBetween(began, monotonicNow());
+    return d;
   }
 
  private:

@@ -13,7 +13,8 @@
 //             simulator runs on that host and stops with it, and a desktop or a virtual machine
 //             without PREEMPT_RT stalls tens of ms a minute, which no robot's computer does. The
 //             controller's own lateness (its computing, its blocking) and the injected delays
-//             pass in the world as on a robot: the motors hold their command through them;
+//             (as long as asked; a late wake-up from them is the host's) pass in the world as
+//             on a robot: the motors hold their command through them;
 //   stop()    turns the motors off.
 // A backend derives from SimulationBackend<Derived, World>, fills caps_, period_, lockstep_ and
 // lidarEnabled_ in configure() (with configureCommands()), calls restartTicks() in start(), and
@@ -112,16 +113,21 @@ class SimulationBackend : public backend::Backend {
     // waits (the schedule moves on) rather than the controller looking late. CPU time, so that
     // a host stall within the step is not counted twice.
     pacer_.pause(threadRun().cpu - runAtAdvance.cpu - kSimulationShare * period_);
-    host_.delay(world_->time());
+    const InjectedDelay injected = host_.delay(world_->time());
     const timespec worked = monotonicNow();
     const ThreadRun run = threadRun();
     const double work = secondsBetween(begin, worked);
     // The host's share of this tick's work: its wall time beyond its CPU time, unless the
-    // thread blocked (then the time is the controller's, or an injected delay's).
+    // thread blocked (then the time is the controller's). An injected delay is the
+    // controller's as asked, and the host's beyond that (the sleep's wake-up came late).
     double hostStall = 0.0;
-    if (tickBegan_.tv_sec != 0 && run.voluntary_switches == runAtTick_.voluntary_switches) {
-      const double stolen = secondsBetween(tickBegan_, worked) - (run.cpu - runAtTick_.cpu);
-      if (stolen > kSimulationShare * period_) hostStall = stolen;
+    const double lateFromDelay = injected.wall - injected.requested;
+    if (lateFromDelay > kSimulationShare * period_) hostStall = lateFromDelay;
+    if (tickBegan_.tv_sec != 0 &&
+        run.voluntary_switches - injected.voluntary_switches == runAtTick_.voluntary_switches) {
+      const double stolen =
+          secondsBetween(tickBegan_, worked) - injected.wall - (run.cpu - runAtTick_.cpu);
+      if (stolen > kSimulationShare * period_) hostStall += stolen;
     }
     pacer_.pause(hostStall);
     timing = pacer_.wait();

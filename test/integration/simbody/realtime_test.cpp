@@ -189,6 +189,34 @@ TEST_F(RealTime, TheWorldWaitsForAHostThatDoesNotRunTheControlThread) {
   }
 }
 
+TEST_F(RealTime, AnInjectedDelayIsTheControllersAndItsLateWakeUpTheHosts) {
+  // A 10 ms delay injected into the tick (as a slow tick's work) passes in the world: the tick
+  // is late by it. The host keeping the thread asleep past the delay's end (the thief runs from
+  // 3 to 18 ms) is the host's: the world waits for that part, and the tick says so.
+  SimConfig config;
+  config.lockstep = false;
+  config.period = 0.002;
+  config.yaml = "host:\n  stall_at: 0.05\n  stall: 0.010\n";
+  SimbodyBackend sim;
+  backend::Error error;
+  ASSERT_TRUE(sim.configure(config.config(), error) && sim.start(error)) << error.message;
+  CpuThief thief;
+  if (!thief.ok()) GTEST_SKIP() << "needs SCHED_FIFO and CPU affinity to emulate the host";
+  backend::TickTiming timing;
+  backend::Sensors s;
+  for (;;) {
+    ASSERT_EQ(sim.advance(timing), Status::kOk);
+    ASSERT_EQ(sim.read(s), Status::kOk);
+    if (s.time + config.period >= 0.05 - 1e-9) break;  // the next tick's delay is due
+  }
+  thief.steal(0.003, 0.015);
+  ASSERT_EQ(sim.advance(timing), Status::kOk);
+  EXPECT_TRUE(timing.late);
+  EXPECT_GE(timing.lateness, 0.010 - config.period);   // the delay asked for is the tick's
+  EXPECT_LT(timing.lateness, 0.0125);                  // the late wake-up (~7 ms) is not
+  EXPECT_GE(timing.host_stall, 0.005);
+}
+
 TEST_F(RealTime, HostDelaysStallOnceAndJitterAFractionOfTicks) {
   SimConfig config;
   config.lockstep = false;
