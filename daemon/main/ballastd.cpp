@@ -42,6 +42,17 @@ using namespace ballast;
 
 namespace {
 
+/// A line for each joint of the URDF the model holds fixed, and why, for the start-up log and
+/// --check: a joint the URDF locks by itself (a mimic joint, a massless sensor's) is news to
+/// whoever wrote the profile.
+std::vector<std::string> lockedJointLines(const model::Model& model) {
+  std::vector<std::string> lines;
+  for (const model::LockedJoint& j : model.lockedJoints)
+    lines.push_back(fmt::format("robot: joint {} held at {:.3f} {}: {}", j.name, j.position,
+                                j.prismatic ? "m" : "rad", j.reason));
+  return lines;
+}
+
 int startupError(const std::string& what) {
   std::fprintf(stderr, "ballastd: %s\n", what.c_str());
   return 1;
@@ -186,6 +197,7 @@ int main(int argc, char** argv) {
                   d->model().name.c_str(), d->model().nj(), d->settings().backend.name.c_str(),
                   d->backendChecked() ? "its section checked by the plugin"
                                       : ("not checked: " + d->backendNote()).c_str());
+      for (const std::string& line : lockedJointLines(d->model())) std::printf("%s\n", line.c_str());
       return 0;
     }
     d->startTelemetry();
@@ -203,6 +215,7 @@ int main(int argc, char** argv) {
                caps.simulation ? "simulation" : "hardware", lockstep ? ", lockstep" : "",
                d->pluginPath(), d->model().name, d->model().nj(), d->settings().control.rate);
   if (!d->backendNote().empty()) spdlog::info("backend {}: {}", caps.name, d->backendNote());
+  for (const std::string& line : lockedJointLines(d->model())) spdlog::info("{}", line);
   if (!lockstep) {
     lockMemory();
     reportKernelPreemption();

@@ -62,11 +62,11 @@ Daemon::Daemon(const DaemonOptions& options) {
     joints[j].name = model_->jointName[j + 1].c_str();
     joints[j].armature = model_->armature[j];
   }
-  for (const auto& [name, position] : settings_.joints.locked) {  // fixed in the model
+  for (const model::LockedJoint& held : model_->lockedJoints) {  // fixed in the model
     backend::JointModel locked;
-    locked.name = name.c_str();
+    locked.name = held.name.c_str();
     locked.locked = true;
-    locked.locked_position = position;
+    locked.locked_position = held.position;
     joints.push_back(locked);
   }
   config.joints = joints.data();

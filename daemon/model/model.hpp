@@ -33,6 +33,15 @@ struct ModelError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A URDF joint the model holds at a position (merged into its parent body like a fixed joint)
+/// and why: the profile locked it, it mimics another joint, or it moves nothing with inertia.
+struct LockedJoint {
+  std::string name;
+  double position = 0.0;  ///< rad, or m for a prismatic joint
+  bool prismatic = false;
+  std::string reason;     ///< for people: "robot.locked_joints", "mimics joint 'x'", ...
+};
+
 struct Model {
   std::string name;        ///< the URDF robot name
   std::string sourceFile;  ///< where it was loaded from (for messages)
@@ -60,6 +69,9 @@ struct Model {
   VecX<double> armature;
 
   std::vector<Frame> frames;  ///< one per URDF link (base and merged ones included)
+  /// The URDF's movable joints that are not the model's, in file order; a simulation welds them
+  /// at their positions so that it simulates the robot the controller models.
+  std::vector<LockedJoint> lockedJoints;
 
   Vec3<double> gravity{0.0, 0.0, -9.81};
 

@@ -112,19 +112,23 @@ SE3<double> toSE3(const urdf::Pose& pose) {
                      Vec3<double>(pose.position.x, pose.position.y, pose.position.z)};
 }
 
-/// The link's inertia in the link frame, validated.
+/// The link's inertia in the link frame, validated; zero for a link without <inertial> or of
+/// zero mass (a frame, a sensor: vendors write both). A point mass (zero inertia) is a body.
 Inertia<double> linkInertia(const urdf::Link& link, const SourceIndex& src) {
+  if (!link.inertial) return Inertia<double>::Zero();
   const auto& in = *link.inertial;
   const std::string at = src.atLink(link.name) + "<inertial>: ";
-  if (!(in.mass > 0.0) || !std::isfinite(in.mass))
-    throw ModelError(at + "mass must be positive and finite, got " + std::to_string(in.mass));
+  if (!(in.mass >= 0.0) || !std::isfinite(in.mass))
+    throw ModelError(at + "mass must be positive (or zero for a massless link) and finite, got " +
+                     std::to_string(in.mass));
   Mat3<double> I;
   I << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
   if (!I.allFinite()) throw ModelError(at + "inertia has a non-finite entry");
+  if (in.mass == 0.0) return Inertia<double>::Zero();
   const Eigen::SelfAdjointEigenSolver<Mat3<double>> eig(I);
   const Vec3<double> d = eig.eigenvalues();  // ascending
-  if (!(d[0] > 0.0))
-    throw ModelError(at + "inertia is not positive definite (smallest principal moment " +
+  if (d[0] < -1e-12 * std::max(1.0, d[2]))
+    throw ModelError(at + "inertia is not positive semi-definite (smallest principal moment " +
                      std::to_string(d[0]) + ")");
   if (d[0] + d[1] < d[2] * (1.0 - 1e-9))
     throw ModelError(at + "principal moments " + std::to_string(d[0]) + ", " +
@@ -138,7 +142,7 @@ class TreeBuilder {
  public:
   TreeBuilder(const urdf::ModelInterface& urdf, const SourceIndex& src, const UrdfOptions& options)
       : urdf_(urdf), src_(src), locked_(options.locked) {
-    for (const auto& [name, position] : locked_) {
+    for (const auto& [name, position] : options.locked) {
       const urdf::JointConstSharedPtr joint = urdf_.getJoint(name);
       if (!joint)
         throw LockedJointError(src_.file + " has no joint '" + name + "'", name);
@@ -166,6 +170,15 @@ class TreeBuilder {
         root->child_joints[0]->type == urdf::Joint::FLOATING) {
       root = urdf_.getLink(root->child_joints[0]->child_link_name);
     }
+    lockMimicJoints();
+    lockJointsMovingNothing(*root);
+    for (const auto& [name, position] : locked_)
+      model_.lockedJoints.push_back(LockedJoint{
+          name, position, urdf_.getJoint(name)->type == urdf::Joint::PRISMATIC, lockReason(name)});
+    std::stable_sort(model_.lockedJoints.begin(), model_.lockedJoints.end(),
+                     [&](const LockedJoint& a, const LockedJoint& b) {
+                       return src_.jointOrder.at(a.name) < src_.jointOrder.at(b.name);
+                     });
     model_.parent.push_back(-1);
     model_.bodyName.push_back(root->name);
     model_.jointName.push_back("");
@@ -173,7 +186,7 @@ class TreeBuilder {
     model_.jointAxis.push_back(Vec3<double>::Zero());
     model_.jointPlacement.push_back(SE3<double>::Identity());
     model_.inertia.push_back(Inertia<double>::Zero());
-    addRigidGroup(*root, 0, SE3<double>::Identity(), /*moved=*/false);
+    addRigidGroup(*root, 0, SE3<double>::Identity());
     if (!(model_.inertia[0].mass > 0.0))
       throw ModelError(src_.atLink(root->name) +
                        "the floating base (root link and links fixed to it) has no mass");
@@ -184,31 +197,88 @@ class TreeBuilder {
  private:
   /// Adds `link` and every link fixed to it as one rigid body `body` (link at `placement` in the
   /// body frame), then the bodies moved by the group's joints, in file order.
-  void addRigidGroup(const urdf::Link& link, int body, const SE3<double>& placement, bool moved) {
+  void addRigidGroup(const urdf::Link& link, int body, const SE3<double>& placement) {
     std::vector<std::pair<const urdf::Joint*, SE3<double>>> movable;
-    collectGroup(link, body, placement, moved, movable);
+    collectGroup(link, body, placement, movable);
     std::stable_sort(movable.begin(), movable.end(), [&](const auto& a, const auto& b) {
       return src_.jointOrder.at(a.first->name) < src_.jointOrder.at(b.first->name);
     });
     for (const auto& [joint, jointPlacement] : movable) addMovingJoint(*joint, body, jointPlacement);
   }
 
-  void collectGroup(const urdf::Link& link, int body, const SE3<double>& placement, bool moved,
+  static bool isMovable(const urdf::Joint& joint) {
+    return joint.type == urdf::Joint::REVOLUTE || joint.type == urdf::Joint::CONTINUOUS ||
+           joint.type == urdf::Joint::PRISMATIC;
+  }
+
+  /// A mimic joint has no actuator of its own: it is held where its leader's position (the
+  /// leader's locked position, else zero) puts it, within its limits.
+  void lockMimicJoints() {
+    for (const auto& [name, joint] : urdf_.joints_) {
+      if (!joint->mimic || !isMovable(*joint) || locked_.count(name)) continue;
+      const auto leader = locked_.find(joint->mimic->joint_name);
+      const double leaderPosition = leader == locked_.end() ? 0.0 : leader->second;
+      double position = joint->mimic->multiplier * leaderPosition + joint->mimic->offset;
+      if (joint->type != urdf::Joint::CONTINUOUS && joint->limits)
+        position = std::clamp(position, joint->limits->lower, joint->limits->upper);
+      locked_[name] = position;
+      reasons_[name] = "mimics joint '" + joint->mimic->joint_name +
+                       "' (no actuator of its own): held where the leader at " +
+                       (leader == locked_.end() ? std::string("0")
+                                                : std::to_string(leaderPosition)) +
+                       " puts it";
+    }
+  }
+
+  /// A joint whose links (the child and all below it) have no inertia about its axis (no mass
+  /// for a prismatic one) moves nothing the dynamics can see and cannot be controlled: held at
+  /// zero, within its limits. Returns the inertia of the links from `link` down, in its frame.
+  Inertia<double> lockJointsMovingNothing(const urdf::Link& link) {
+    Inertia<double> total = linkInertia(link, src_);
+    for (const auto& joint : link.child_joints) {
+      const Inertia<double> below = lockJointsMovingNothing(*urdf_.getLink(joint->child_link_name));
+      if (isMovable(*joint) && !locked_.count(joint->name)) {
+        const Vec3<double> axis(joint->axis.x, joint->axis.y, joint->axis.z);
+        const double moved =
+            joint->type == urdf::Joint::PRISMATIC
+                ? below.mass
+                : axis.dot(below.I * axis) / axis.squaredNorm();  // about the joint's axis
+        if (!(moved > 1e-9) && axis.norm() > 1e-9) {  // a zero axis is refused as such later
+          double position = 0.0;
+          if (joint->type != urdf::Joint::CONTINUOUS && joint->limits)
+            position = std::clamp(0.0, joint->limits->lower, joint->limits->upper);
+          locked_[joint->name] = position;
+          reasons_[joint->name] = "moves link '" + joint->child_link_name +
+                                  "' and the links below it, which have no " +
+                                  (joint->type == urdf::Joint::PRISMATIC ? "mass"
+                                                                         : "inertia about its axis");
+        }
+      }
+      const auto lock = locked_.find(joint->name);
+      const SE3<double> at =
+          toSE3(joint->parent_to_joint_origin_transform) *
+          (lock == locked_.end() ? SE3<double>::Identity() : lockedMotion(*joint, lock->second));
+      total += below.transformedBy(at);
+    }
+    return total;
+  }
+
+  std::string lockReason(const std::string& joint) const {
+    const auto it = reasons_.find(joint);
+    return it == reasons_.end() ? "robot.locked_joints" : it->second;
+  }
+
+  void collectGroup(const urdf::Link& link, int body, const SE3<double>& placement,
                     std::vector<std::pair<const urdf::Joint*, SE3<double>>>& movable) {
     model_.frames.push_back(Frame{link.name, body, placement});
-    if (link.inertial) {
-      model_.inertia[body] += linkInertia(link, src_).transformedBy(placement);
-    } else if (moved) {
-      throw ModelError(src_.atLink(link.name) + "no <inertial>: a link moved by joint '" +
-                       link.parent_joint->name + "' needs mass and inertia");
-    }
+    model_.inertia[body] += linkInertia(link, src_).transformedBy(placement);
     for (const auto& joint : link.child_joints) {
       const SE3<double> at = placement * toSE3(joint->parent_to_joint_origin_transform);
       if (joint->type == urdf::Joint::FIXED) {
-        collectGroup(*urdf_.getLink(joint->child_link_name), body, at, false, movable);
+        collectGroup(*urdf_.getLink(joint->child_link_name), body, at, movable);
       } else if (const auto lock = locked_.find(joint->name); lock != locked_.end()) {
-        collectGroup(*urdf_.getLink(joint->child_link_name), body, at * lockedMotion(*joint, lock->second),
-                     false, movable);
+        collectGroup(*urdf_.getLink(joint->child_link_name), body,
+                     at * lockedMotion(*joint, lock->second), movable);
       } else {
         movable.emplace_back(joint.get(), at);
       }
@@ -280,7 +350,7 @@ class TreeBuilder {
     upper_.push_back(upper);
     velocity_.push_back(joint.limits->velocity);
     effort_.push_back(joint.limits->effort);
-    addRigidGroup(*child, body, SE3<double>::Identity(), true);
+    addRigidGroup(*child, body, SE3<double>::Identity());
   }
 
   void finish() {
@@ -299,7 +369,8 @@ class TreeBuilder {
 
   const urdf::ModelInterface& urdf_;
   const SourceIndex& src_;
-  const std::map<std::string, double>& locked_;
+  std::map<std::string, double> locked_;       ///< the profile's, then the mimic and inert ones
+  std::map<std::string, std::string> reasons_;  ///< why, for those the URDF locks itself
   Model model_;
   std::vector<double> lower_, upper_, velocity_, effort_;
 };

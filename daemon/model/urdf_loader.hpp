@@ -8,13 +8,19 @@
 //
 // Every defect raises ModelError with "file:line:column: element: what is wrong": a file that
 // cannot be read, XML errors, anything urdfdom rejects (not a tree, no root, dangling links),
-// unsupported joint types, a moving link without <inertial> or with non-physical inertia,
-// limits that are missing, inverted or not positive, a zero axis.
+// unsupported joint types, non-physical inertia (negative mass, not positive semi-definite,
+// principal moments against the triangle inequality), limits that are missing, inverted or not
+// positive, a zero axis. Elements the model has no use for (<gazebo>, <transmission>, <mujoco>,
+// meshes) are ignored; CRLF line endings read as LF.
 //
-// Locked joints (UrdfOptions::locked, the profile's robot.locked_joints) are fixed at their
-// angle: merged like fixed joints, the child placed where the joint at that angle puts it. They
-// are not the model's joints; a name that is not a movable joint, or an angle outside its limits,
-// is a ModelError naming the joint.
+// Locked joints are fixed at a position: merged like fixed joints, the child placed where the
+// joint at that position puts it; they are not the model's joints and Model::lockedJoints lists
+// them with the reason. They are the profile's (UrdfOptions::locked, robot.locked_joints: a name
+// that is not a movable joint, or a position outside its limits, is a LockedJointError naming
+// the joint), and two kinds the URDF itself cannot actuate: mimic joints (held where their
+// leader's locked position, else zero, puts them) and joints that move no inertia (a link
+// without <inertial> or of zero mass, and everything below it: a sensor, a frame; held at zero).
+// A massless link that carries moving links is a body of zero inertia.
 #pragma once
 
 #include <map>

@@ -389,6 +389,22 @@ Joints the controller should not move (a waist, a head, a wrist) are fixed at an
 they are merged into their parent body in the controller's model and welded in the simulation,
 and they belong to no joint group. ballast controls at most 32 joints; a URDF with more is
 refused until enough of them are locked.
+.PP
+The URDF is read as vendors write it: CRLF line endings, mesh geometry, and
+.BR <gazebo> ,
+.B <transmission>
+and
+.B <mujoco>
+elements are ignored. Two kinds of joint are locked by the URDF itself and said at start (and by
+.BR \-\-check ),
+one line each, "robot: joint NAME held at ANGLE: why": a mimic joint (no actuator of its own:
+held where its leader's locked angle, else zero, puts it) and a joint that moves no inertia (a
+link without
+.B <inertial>
+or of zero mass, and all below it: a camera, a sensor; held at zero). A massless link that
+carries moving links (two hip joints meeting in a point) is a body of zero inertia. Inertias that
+no rigid body has (negative mass, not positive semi\-definite, principal moments against the
+triangle inequality) are refused, naming the link and line.
 .SH FILES
 .TP
 .I profiles/sim\-flat.yaml

@@ -136,6 +136,10 @@ double halfExtentAlong(const Shape& shape, const std::array<double, 3>& u) {
   return e;
 }
 
+/// What MuJoCo gets for a massless body that moves (it refuses none): small beside any link.
+constexpr double kLeastMass = 1e-6;     // kg
+constexpr double kLeastInertia = 1e-9;  // kg m²
+
 class Builder {
  public:
   Builder(const urdf::ModelInterface& urdf, const ModelInput& input, std::map<std::string, int> order,
@@ -174,18 +178,19 @@ class Builder {
     });
     for (const auto& joint : children) {
       const urdf::LinkConstSharedPtr child = urdf_.getLink(joint->child_link_name);
-      const Transform X_PJ = X * fromPose(joint->parent_to_joint_origin_transform);
-      if (joint->type == urdf::Joint::FIXED && !child->inertial) {
+      Transform X_PJ = X * fromPose(joint->parent_to_joint_origin_transform);
+      const auto lock = in_.locked.find(joint->name);
+      if (lock != in_.locked.end()) X_PJ = X_PJ * lockedMotion(*joint, lock->second);
+      const bool locked = lock != in_.locked.end();
+      const bool massless = !child->inertial || !(child->inertial->mass > 0.0);
+      if ((joint->type == urdf::Joint::FIXED || locked) && massless) {
         walk(*child, node, X_PJ);
         continue;
       }
-      if (!child->inertial)
-        throw std::runtime_error("link '" + child->name + "' is moved by joint '" + joint->name +
-                                 "' but has no <inertial>");
-      const bool movable = joint->type == urdf::Joint::REVOLUTE ||
-                           joint->type == urdf::Joint::CONTINUOUS ||
-                           joint->type == urdf::Joint::PRISMATIC;
-      if (!movable && joint->type != urdf::Joint::FIXED)
+      const bool movable = !locked && (joint->type == urdf::Joint::REVOLUTE ||
+                                       joint->type == urdf::Joint::CONTINUOUS ||
+                                       joint->type == urdf::Joint::PRISMATIC);
+      if (!movable && !locked && joint->type != urdf::Joint::FIXED)
         throw std::runtime_error("joint '" + joint->name +
                                  "': only revolute, continuous, prismatic and fixed joints are "
                                  "simulated (the root's floating joint aside)");
@@ -242,6 +247,23 @@ class Builder {
     }
   }
 
+  /// The child's frame in the joint frame of a joint held at `position`.
+  static Transform lockedMotion(const urdf::Joint& joint, double position) {
+    const double n = std::sqrt(joint.axis.x * joint.axis.x + joint.axis.y * joint.axis.y +
+                               joint.axis.z * joint.axis.z);
+    const std::array<double, 3> u{joint.axis.x / n, joint.axis.y / n, joint.axis.z / n};
+    Transform t;
+    if (joint.type == urdf::Joint::PRISMATIC) {
+      for (int k = 0; k < 3; ++k) t.p[static_cast<std::size_t>(k)] = position * u[static_cast<std::size_t>(k)];
+      return t;
+    }
+    const double c = std::cos(position), s = std::sin(position), v = 1.0 - c;  // Rodrigues
+    t.R = {c + u[0] * u[0] * v,        u[0] * u[1] * v - u[2] * s, u[0] * u[2] * v + u[1] * s,
+           u[1] * u[0] * v + u[2] * s, c + u[1] * u[1] * v,        u[1] * u[2] * v - u[0] * s,
+           u[2] * u[0] * v - u[1] * s, u[2] * u[1] * v + u[0] * s, c + u[2] * u[2] * v};
+    return t;
+  }
+
   int nodeOf(const std::string& link) const {
     const std::string& body = out_.links.at(link).body;
     for (std::size_t i = 0; i < nodes_.size(); ++i)
@@ -250,26 +272,29 @@ class Builder {
   }
 
   void placeContacts() {
-    out_.footGeoms.assign(in_.contactFrames.size(), {});
-    for (std::size_t i = 0; i < in_.contactFrames.size(); ++i) {
-      const std::string& name = in_.contactFrames[i];
-      if (!out_.links.count(name))
-        throw std::runtime_error("no link '" + name + "' (contact frame " + std::to_string(i) + ")");
-      nodes_[static_cast<std::size_t>(nodeOf(name))].contacts.push_back(static_cast<int>(i));
+    out_.footGeoms.assign(in_.contacts.size(), {});
+    for (std::size_t i = 0; i < in_.contacts.size(); ++i) {
+      const ModelInput::ContactPoint& c = in_.contacts[i];
+      if (!out_.links.count(c.link))
+        throw std::runtime_error("no link '" + c.link + "' (contact frame " + std::to_string(i) + ")");
+      nodes_[static_cast<std::size_t>(nodeOf(c.link))].contacts.push_back(static_cast<int>(i));
     }
   }
 
   /// The spheres of contact point i on its body: (centre in the body frame).
   std::vector<std::array<double, 3>> contactSpheres(int i, const Node& node) const {
-    const std::string& name = in_.contactFrames[static_cast<std::size_t>(i)];
-    const Transform& frame = out_.links.at(name).inBody;
+    const ModelInput::ContactPoint& c = in_.contacts[static_cast<std::size_t>(i)];
+    Transform frame = out_.links.at(c.link).inBody;
+    frame.p = frame.apply(c.position);
     const double r = s_.foot_sphere_radius;
     const std::array<double, 3> across = frame.rotate({0, 1, 0}), up = frame.rotate({0, 0, 1});
     double width = s_.foot_width;
     if (width == 0.0) {
-      const std::string& parent = parentLink_.at(name);
+      // The sole's collision box: the point's own link's, or (a frame link on the foot) its
+      // parent's.
+      const std::string& parent = parentLink_.at(c.link);
       for (const Shape& shape : node.shapes)
-        if (shape.link == name || shape.link == parent)
+        if (shape.link == c.link || shape.link == parent)
           width = std::max(width, 2.0 * halfExtentAlong(shape, across));
     }
     std::array<double, 3> centre;
@@ -297,31 +322,20 @@ class Builder {
     const std::string in = indent + "  ";
     if (n.parent < 0) x << in << "<freejoint name=\"floating_base\"/>\n";
     if (n.joint) emitJoint(*n.joint, x, in);
-    // The URDF inertia is about the centre of mass in the <inertial> frame; MJCF's fullinertia
-    // takes no orientation with it: I = R I' Rᵀ in the body frame.
-    const urdf::Inertial& m = *n.inertial;
-    const Transform X = fromPose(m.origin);
-    const double I[9] = {m.ixx, m.ixy, m.ixz, m.ixy, m.iyy, m.iyz, m.ixz, m.iyz, m.izz};
-    double RI[9], J[9];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {
-        RI[3 * i + j] = 0;
-        for (int k = 0; k < 3; ++k) RI[3 * i + j] += X.R[static_cast<std::size_t>(3 * i + k)] * I[3 * k + j];
-      }
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) {
-        J[3 * i + j] = 0;
-        for (int k = 0; k < 3; ++k) J[3 * i + j] += RI[3 * i + k] * X.R[static_cast<std::size_t>(3 * j + k)];
-      }
-    x << in << "<inertial pos=\"" << nums(X.p) << "\" mass=\"" << num(m.mass)
-      << "\" fullinertia=\"" << num(J[0]) << " " << num(J[4]) << " " << num(J[8]) << " "
-      << num(J[1]) << " " << num(J[2]) << " " << num(J[5]) << "\"/>\n";
+    if (!n.inertial || !(n.inertial->mass > 0.0)) {
+      // Massless, carrying moving links: MuJoCo wants mass and inertia on every moving body.
+      x << in << "<inertial pos=\"0 0 0\" mass=\"" << num(kLeastMass) << "\" diaginertia=\""
+        << num(kLeastInertia) << " " << num(kLeastInertia) << " " << num(kLeastInertia)
+        << "\"/>\n";
+    } else {
+      emitInertial(*n.inertial, x, in);
+    }
     const std::string robot = contactAttributes("1", "contype=\"1\" conaffinity=\"0\"");
     if (!n.contacts.empty()) {
       for (int c : n.contacts) {
         const std::vector<std::array<double, 3>> spheres = contactSpheres(c, n);
         for (std::size_t k = 0; k < spheres.size(); ++k) {
-          const std::string name = in_.contactFrames[static_cast<std::size_t>(c)] + "_sphere" + std::to_string(k);
+          const std::string name = in_.contacts[static_cast<std::size_t>(c)].name + "_sphere" + std::to_string(k);
           out_.footGeoms[static_cast<std::size_t>(c)].push_back(name);
           x << in << "<geom name=\"" << escape(name) << "\" type=\"sphere\" size=\""
             << num(s_.foot_sphere_radius) << "\" pos=\"" << nums(spheres[k]) << "\"" << robot
@@ -345,6 +359,29 @@ class Builder {
     }
     for (int child : n.children) emitBody(child, x, in);
     x << indent << "</body>\n";
+  }
+
+  /// The URDF inertia is about the centre of mass in the <inertial> frame; MJCF's fullinertia
+  /// takes no orientation with it: I = R I' Rᵀ in the body frame. A point mass (zero inertia,
+  /// which the controller's model takes) gets MuJoCo's least inertia.
+  void emitInertial(const urdf::Inertial& m, std::ostringstream& x, const std::string& in) {
+    const Transform X = fromPose(m.origin);
+    const double I[9] = {m.ixx, m.ixy, m.ixz, m.ixy, m.iyy, m.iyz, m.ixz, m.iyz, m.izz};
+    double RI[9], J[9];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        RI[3 * i + j] = 0;
+        for (int k = 0; k < 3; ++k) RI[3 * i + j] += X.R[static_cast<std::size_t>(3 * i + k)] * I[3 * k + j];
+      }
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        J[3 * i + j] = 0;
+        for (int k = 0; k < 3; ++k) J[3 * i + j] += RI[3 * i + k] * X.R[static_cast<std::size_t>(3 * j + k)];
+      }
+    for (const int d : {0, 4, 8}) J[d] = std::max(J[d], kLeastInertia);
+    x << in << "<inertial pos=\"" << nums(X.p) << "\" mass=\"" << num(m.mass)
+      << "\" fullinertia=\"" << num(J[0]) << " " << num(J[4]) << " " << num(J[8]) << " "
+      << num(J[1]) << " " << num(J[2]) << " " << num(J[5]) << "\"/>\n";
   }
 
   void emitJoint(const urdf::Joint& joint, std::ostringstream& x, const std::string& in) {

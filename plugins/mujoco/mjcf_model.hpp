@@ -10,8 +10,11 @@
 //     MuJoCo's joint armature is exactly the rotor inertia on M's diagonal, as in the
 //     controller's model); a fixed joint to a link with <inertial> makes a body without a joint
 //     (welded: MuJoCo merges nothing away, the dynamics are those of the merged body);
-//   - links without <inertial> (contact points, sensor frames) are frames on their nearest
-//     massive ancestor (LinkFrame);
+//   - links without <inertial> or of zero mass (contact points, sensor frames) fixed to their
+//     parent are frames on their nearest massive ancestor (LinkFrame); a locked joint
+//     (Config::joints) is a fixed one at its position; a massless link moved by a joint (it
+//     carries moving links: the controller's model locks any that moves nothing) is a body with
+//     MuJoCo's least mass and inertia;
 //   - foot contact as in the simbody backend: each contact point (Config::contact_frames) carries
 //     two spheres of foot_sphere_radius side by side across the foot (bottoms on the sole, the
 //     pair foot_width wide, else the width of the foot's collision box); the foot bodies have no
@@ -51,7 +54,14 @@ struct Transform {
 /// What the model is built from.
 struct ModelInput {
   std::string urdfPath;
-  std::vector<std::string> contactFrames;    ///< Config::contact_frames
+  /// A contact point: its name (Config::contact_frames) on a URDF link at a position in that
+  /// link's frame (Config::contact_points; a link's own origin when the profile names a link).
+  struct ContactPoint {
+    std::string name, link;
+    std::array<double, 3> position{0, 0, 0};
+  };
+  std::vector<ContactPoint> contacts;
+  std::map<std::string, double> locked;      ///< joint -> position it is welded at (Config::joints)
   MujocoSettings settings;
   std::map<std::string, double> armature;    ///< joint -> kg·m² (Config::joints)
   plugin::TerrainColumns columns;            ///< empty: no map

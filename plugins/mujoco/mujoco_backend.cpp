@@ -26,14 +26,16 @@ bool MujocoBackend::configure(const backend::Config& config, backend::Error& err
     for (int i = 0; i < config.num_contacts; ++i) {
       if (!config.contact_frames || !config.contact_frames[i])
         throw std::runtime_error("Config::contact_frames[" + std::to_string(i) + "] is missing");
-      // ABI v4's placed points (robot.contact_frames {link, offset}) and locked joints are not
-      // built here yet: refused, not simulated wrongly.
-      if (config.contact_points && config.contact_points[i].link &&
-          std::string(config.contact_points[i].link) != config.contact_frames[i])
-        throw std::runtime_error(std::string("contact point ") + config.contact_frames[i] +
-                                 ": the mujoco backend takes contact points at URDF links only "
-                                 "(not yet {link, offset})");
-      options.contactFrames.emplace_back(config.contact_frames[i]);
+      ModelInput::ContactPoint c;
+      c.name = c.link = config.contact_frames[i];
+      if (config.contact_points) {
+        const backend::ContactPoint& p = config.contact_points[i];
+        if (!p.link || !*p.link)
+          throw std::runtime_error("Config::contact_points[" + std::to_string(i) + "] has no link");
+        c.link = p.link;
+        c.position = {p.position[0], p.position[1], p.position[2]};
+      }
+      options.contacts.push_back(c);
     }
     options.settings = settings_;
     for (int i = 0; i < config.num_joint_models; ++i)
@@ -43,9 +45,7 @@ bool MujocoBackend::configure(const backend::Config& config, backend::Error& err
                                    ": armature must be finite and >= 0");
         options.armature[config.joints[i].name] = config.joints[i].armature;
         if (config.joints[i].locked)
-          throw std::runtime_error(std::string("joint ") + config.joints[i].name +
-                                   " is locked (robot.locked_joints): the mujoco backend cannot "
-                                   "weld locked joints yet");
+          options.locked[config.joints[i].name] = config.joints[i].locked_position;
       }
     options.terrainMap = settings_.terrain_map.empty()
                              ? std::string(config.terrain_map ? config.terrain_map : "")

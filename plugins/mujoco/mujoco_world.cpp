@@ -88,10 +88,10 @@ mjModel* compile(const std::string& xml, const std::string& urdfPath) {
 }  // namespace
 
 MujocoWorld::MujocoWorld(const WorldOptions& options)
-    : contactFrames_(options.contactFrames), urdfPath_(options.urdfPath) {
+    : contactPoints_(options.contacts), urdfPath_(options.urdfPath) {
   installHandlers();
   const MujocoSettings& s = options.settings;
-  if (contactFrames_.empty())
+  if (contactPoints_.empty())
     throw std::runtime_error("no contact frames given (Config::contact_frames): the simulation "
                              "puts the foot contact spheres on them");
   if (numContacts() > backend::kMaxContacts)
@@ -123,7 +123,8 @@ MujocoWorld::MujocoWorld(const WorldOptions& options)
 
   ModelInput input;
   input.urdfPath = options.urdfPath;
-  input.contactFrames = options.contactFrames;
+  input.contacts = options.contacts;
+  input.locked = options.locked;
   input.settings = s;
   input.armature = options.armature;
   input.columns = columns_;

@@ -45,7 +45,8 @@ namespace ballast::mujoco {
 
 struct WorldOptions {
   std::string urdfPath;
-  std::vector<std::string> contactFrames;  ///< URDF links, Config::contact_frames order
+  std::vector<ModelInput::ContactPoint> contacts;  ///< Config::contact_frames order
+  std::map<std::string, double> locked;            ///< joint -> position it is welded at
   MujocoSettings settings;
   std::string terrainMap;       ///< resolved path of the map to simulate; "" = flat floor
   std::string terrainMapWhere;  ///< prefix for map errors ("file:line:col: terrain_map: ")
@@ -65,7 +66,7 @@ class MujocoWorld {
   // --- model ---
   int numJoints() const { return static_cast<int>(built_.jointNames.size()); }
   const std::vector<std::string>& jointNames() const { return built_.jointNames; }
-  int numContacts() const { return static_cast<int>(contactFrames_.size()); }
+  int numContacts() const { return static_cast<int>(contactPoints_.size()); }
   double mass() const { return mass_; }
   double timestep() const { return timestep_; }
   const BuiltModel& built() const { return built_; }
@@ -148,7 +149,7 @@ class MujocoWorld {
   mjModel* m_ = nullptr;
   mjData* d_ = nullptr;
   BuiltModel built_;
-  std::vector<std::string> contactFrames_;
+  std::vector<ModelInput::ContactPoint> contactPoints_;
   plugin::TerrainColumns columns_;
   bool floor_ = true;
   double floorHeight_ = 0.0;

@@ -115,14 +115,15 @@ class Builder {
                          ? SimTK::Transform(lock->second * u.asVec3())
                          : SimTK::Transform(SimTK::Rotation(lock->second, u)));
     }
-    if (fixed && !child->inertial) {
+    const bool massless = !child->inertial || !(child->inertial->mass > 0.0);
+    if (fixed && massless) {
       addLink(*child, parent, X_PJ);
       return;
     }
-    if (!child->inertial)
-      throw std::runtime_error("link '" + child->name + "' is moved by joint '" + joint.name +
-                               "' but has no <inertial>");
-    SimTK::MassProperties mass = massProperties(*child->inertial);
+    // A massless link that moves carries moving links (the controller locks any joint that
+    // moves nothing): a body of no mass, which Simbody takes anywhere but at a tip.
+    SimTK::MassProperties mass = massless ? SimTK::MassProperties(0, SimTK::Vec3(0), SimTK::Inertia(0))
+                                          : massProperties(*child->inertial);
     if (const auto a = armature_.find(joint.name); !fixed && a != armature_.end() && a->second > 0.0) {
       // The rotor: a disk on the joint axis at the joint (the child's origin), no extra mass.
       const SimTK::Vec3 u = SimTK::UnitVec3(joint.axis.x, joint.axis.y, joint.axis.z).asVec3();

@@ -4,8 +4,9 @@
 //
 // Every URDF link with <inertial> becomes a Simbody body: the root on a Free mobilizer, links on
 // revolute/continuous joints on Pin, prismatic on Slider, fixed ones on Weld. Links without
-// <inertial> (contact points, sensor frames) are not bodies: they are frames on their nearest
-// massive ancestor (linkFrame). Simbody's Free mobilizer has q = (quaternion, position) and
+// <inertial> or of zero mass (contact points, sensor frames) fixed to their parent are not
+// bodies: they are frames on their nearest massive ancestor (linkFrame); moved by a joint, they
+// are bodies without mass. Simbody's Free mobilizer has q = (quaternion, position) and
 // u = (ω, v) with world axes; the Pin's q and u are the joint angle and rate.
 //
 // For the simulation backend it also keeps what the URDF says about collisions (box, sphere and

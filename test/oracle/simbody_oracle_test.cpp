@@ -1,4 +1,7 @@
-// Our rigid-body algorithms against Simbody, on the humanoid, at many random states.
+// Our rigid-body algorithms against Simbody, at many random states, on the humanoid and on the
+// generator's other robots as vendors write them (test/CMakeLists.txt: hips in another order,
+// 5-joint legs, a 29-joint robot with its waist and a wrist per arm locked, a 35 kg one; each
+// with CRLF, a mimic finger per hand and a massless camera on a joint, which the loader locks).
 //
 // Simbody's system is built from the URDF by plugins/simbody (urdfdom directly, not our loader).
 // Its coordinates differ from ours only at the base: Simbody's Free mobilizer has
@@ -8,6 +11,7 @@
 //   J̇ v = J̇_sb u + J_sb Ṫ v,   and CoM and centroidal momentum compare directly.
 #include <gtest/gtest.h>
 
+#include <map>
 #include <random>
 
 #include "test/unit/test_support.hpp"
@@ -53,13 +57,28 @@ template <typename A, typename B>
   return ::testing::AssertionFailure() << "error " << err << " > " << tol << " * " << scale;
 }
 
-class SimbodyOracle : public ::testing::Test {
+/// A robot: its URDF and the joints the profile locks.
+struct Robot {
+  const char* name;
+  std::string urdf;
+  std::map<std::string, double> locked;
+};
+
+std::string generated(const char* name) { return std::string(TEST_URDF_DIR) + "/" + name + ".urdf"; }
+
+class SimbodyOracle : public ::testing::TestWithParam<Robot> {
  protected:
   static void TearDownTestSuite() {
     std::printf("worst relative error against Simbody: %.2e\n", worstRelativeError);
   }
   void SetUp() override {
-    mb_ = simbody::buildUrdfMultibody(humanoidUrdf());
+    model::UrdfOptions options;
+    options.locked = GetParam().locked;
+    model_ = model::loadUrdfFile(GetParam().urdf, options);
+    // Simbody welds what the daemon tells it to: every joint the model holds (Config::joints).
+    std::map<std::string, double> welded;
+    for (const model::LockedJoint& j : model_.lockedJoints) welded[j.name] = j.position;
+    mb_ = simbody::buildUrdfMultibody(GetParam().urdf, {}, welded);
     state_ = mb_->system.realizeTopology();
     mb_->system.realizeModel(state_);
   }
@@ -118,19 +137,20 @@ class SimbodyOracle : public ::testing::Test {
     return toEigen(r);
   }
 
+  Model model_;
   std::unique_ptr<simbody::UrdfMultibody> mb_;
   SimTK::State state_;
 };
 
-TEST_F(SimbodyOracle, SameJointsInTheSameOrder) {
-  const Model& model = humanoid();
+TEST_P(SimbodyOracle, SameJointsInTheSameOrder) {
+  const Model& model = model_;
   ASSERT_EQ(static_cast<int>(mb_->jointNames.size()), model.nj());
   for (int j = 0; j < model.nj(); ++j) EXPECT_EQ(mb_->jointNames[j], model.jointName[j + 1]);
   EXPECT_EQ(mb_->system.realizeTopology().getNU(), model.nv);
 }
 
-TEST_F(SimbodyOracle, MassMatrixNonlinearEffectsAndInverseDynamics) {
-  const Model& model = humanoid();
+TEST_P(SimbodyOracle, MassMatrixNonlinearEffectsAndInverseDynamics) {
+  const Model& model = model_;
   Data<double> data(model);
   std::mt19937 rng(7);
   for (int k = 0; k < kStates; ++k) {
@@ -150,8 +170,8 @@ TEST_F(SimbodyOracle, MassMatrixNonlinearEffectsAndInverseDynamics) {
   }
 }
 
-TEST_F(SimbodyOracle, ContactJacobiansAndBias) {
-  const Model& model = humanoid();
+TEST_P(SimbodyOracle, ContactJacobiansAndBias) {
+  const Model& model = model_;
   Data<double> data(model);
   std::mt19937 rng(11);
   for (int k = 0; k < kStates; ++k) {
@@ -181,8 +201,8 @@ TEST_F(SimbodyOracle, ContactJacobiansAndBias) {
   }
 }
 
-TEST_F(SimbodyOracle, FootFrameJacobiansWithAngularRows) {
-  const Model& model = humanoid();
+TEST_P(SimbodyOracle, FootFrameJacobiansWithAngularRows) {
+  const Model& model = model_;
   Data<double> data(model);
   std::mt19937 rng(13);
   for (int k = 0; k < kStates; ++k) {
@@ -204,8 +224,8 @@ TEST_F(SimbodyOracle, FootFrameJacobiansWithAngularRows) {
   }
 }
 
-TEST_F(SimbodyOracle, CenterOfMassAndCentroidalMomentum) {
-  const Model& model = humanoid();
+TEST_P(SimbodyOracle, CenterOfMassAndCentroidalMomentum) {
+  const Model& model = model_;
   Data<double> data(model);
   std::mt19937 rng(17);
   for (int k = 0; k < kStates; ++k) {
@@ -223,6 +243,43 @@ TEST_F(SimbodyOracle, CenterOfMassAndCentroidalMomentum) {
     EXPECT_TRUE(closeTo(data.hg, ref));
     EXPECT_TRUE(closeTo(model::Vec6<double>(data.Ag * s.v), ref));
   }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Robots, SimbodyOracle,
+    ::testing::Values(
+        Robot{"humanoid", humanoidUrdf(), {}},
+        Robot{"hips_pitch_roll_yaw", generated("hips_pitch_roll_yaw"), {}},
+        Robot{"legs_of_5", generated("legs_of_5"), {}},
+        Robot{"joints_29", generated("joints_29"),
+              {{"waist_yaw", 0.0}, {"waist_roll", 0.0}, {"waist_pitch", 0.1},
+               {"left_wrist_yaw", 0.0}, {"right_wrist_yaw", 0.0}}},
+        Robot{"mass_35", generated("mass_35"), {}}),
+    [](const ::testing::TestParamInfo<Robot>& info) { return std::string(info.param.name); });
+
+TEST(SimbodyOracleRobots, TheGeneratedRobotsAreWhatTheirOptionsSay) {
+  // So that the suite above compares what it claims to: each variant's joints as generated, the
+  // mimic fingers and the cameras locked by the loader, the profile's locks on top.
+  auto load = [](const char* name, std::map<std::string, double> locked = {}) {
+    model::UrdfOptions options;
+    options.locked = std::move(locked);
+    return model::loadUrdfFile(generated(name), options);
+  };
+  const Model pry = load("hips_pitch_roll_yaw");
+  EXPECT_EQ(pry.nj(), 24);
+  EXPECT_EQ(pry.jointName[1], "left_hip_pitch");
+  EXPECT_EQ(pry.jointName[3], "left_hip_yaw");
+  EXPECT_EQ(pry.jointName[5], "left_ankle_roll");
+  EXPECT_EQ(pry.lockedJoints.size(), 3u);  // two fingers, the camera
+  EXPECT_EQ(load("legs_of_5").nj(), 22);
+  const Model all29 = load("joints_29");
+  EXPECT_EQ(all29.nj(), 29);
+  const Model locked29 = load("joints_29", {{"waist_yaw", 0.0}, {"waist_roll", 0.0},
+                                            {"waist_pitch", 0.1}, {"left_wrist_yaw", 0.0},
+                                            {"right_wrist_yaw", 0.0}});
+  EXPECT_EQ(locked29.nj(), 24);
+  EXPECT_EQ(locked29.lockedJoints.size(), 8u);
+  EXPECT_NEAR(load("mass_35").totalMass(), 35.0, 1e-3);
 }
 
 }  // namespace

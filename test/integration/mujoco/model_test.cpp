@@ -20,7 +20,7 @@ using simbody::test::kContactFrames;
 WorldOptions options(const std::string& yaml = "") {
   WorldOptions o;
   o.urdfPath = humanoidUrdfPath();
-  o.contactFrames.assign(std::begin(kContactFrames), std::end(kContactFrames));
+  for (const char* frame : kContactFrames) o.contacts.push_back({frame, frame, {0, 0, 0}});
   o.settings = parseMujocoSettings(yaml, "test.yaml:1");
   return o;
 }
@@ -113,7 +113,7 @@ std::string errorOf(const std::string& urdf, const std::string& yaml = "") {
   std::ofstream(path) << urdf;
   WorldOptions o = options(yaml);
   o.urdfPath = path;
-  o.contactFrames = {"foot"};
+  o.contacts = {{"foot", "foot", {0, 0, 0}}};
   try {
     MujocoWorld world(o);
   } catch (const std::exception& e) {
@@ -129,10 +129,6 @@ const char* const kLinkWithMass = R"(<inertial><mass value="1"/><inertia ixx="0.
 
 TEST(MujocoModel, BadUrdfsNameTheElement) {
   const std::string base = std::string("<robot name='r'><link name='base'>") + kLinkWithMass + "</link>";
-  EXPECT_EQ(errorOf(base + "<link name='leg'/><joint name='hip' type='revolute'><parent link='base'/>"
-                           "<child link='leg'/><axis xyz='0 1 0'/><limit lower='-1' upper='1' effort='10' velocity='1'/></joint>"
-                           "<link name='foot'/><joint name='f' type='fixed'><parent link='leg'/><child link='foot'/></joint></robot>"),
-            "bad.urdf: link 'leg' is moved by joint 'hip' but has no <inertial>");
   EXPECT_EQ(errorOf("<robot name='r'><link name='base'/><link name='foot'/><joint name='f' type='fixed'>"
                     "<parent link='base'/><child link='foot'/></joint></robot>"),
             "bad.urdf: the root link 'base' has no <inertial>: the floating base needs a mass");
@@ -144,13 +140,36 @@ TEST(MujocoModel, BadUrdfsNameTheElement) {
   EXPECT_EQ(errorOf(base + "<link name='toe'/><joint name='t' type='fixed'><parent link='base'/>"
                            "<child link='toe'/></joint></robot>"),
             "bad.urdf: no link 'foot' (contact frame 0)");
-  // MuJoCo's own refusal (a body without mass on a joint) names the link.
-  const std::string massless = base + "<link name='leg'><inertial><mass value='0'/><inertia ixx='0' ixy='0' ixz='0' iyy='0' iyz='0' izz='0'/></inertial></link>"
-                                      "<joint name='hip' type='revolute'><parent link='base'/><child link='leg'/><axis xyz='0 1 0'/>"
-                                      "<limit lower='-1' upper='1' effort='10' velocity='1'/></joint><link name='foot'/>"
-                                      "<joint name='f' type='fixed'><parent link='leg'/><child link='foot'/></joint></robot>";
-  const std::string refused = errorOf(massless);
-  EXPECT_EQ(refused, "bad.urdf: link 'leg': MuJoCo refuses it: inertia must have positive eigenvalues");
+}
+
+TEST(MujocoModel, MasslessLinksOnJointsAreBodiesOfLeastMassAndLockedJointsAreWelded) {
+  // Without <inertial> and of zero mass: MuJoCo refuses a moving body without mass, so it gets
+  // the least (the controller's model locks such a joint when nothing with mass is below it,
+  // and the daemon has the simulation weld it: Config::joints).
+  const std::string base = std::string("<robot name='r'><link name='base'>") + kLinkWithMass + "</link>";
+  const std::string tail =
+      "<joint name='hip' type='revolute'><parent link='base'/><child link='leg'/><axis xyz='0 1 0'/>"
+      "<limit lower='-1' upper='1' effort='10' velocity='1'/></joint><link name='foot'/>"
+      "<joint name='f' type='fixed'><parent link='leg'/><child link='foot'/><origin xyz='0 0 -0.3'/></joint></robot>";
+  const std::string path = ::testing::TempDir() + "massless.urdf";
+  for (const std::string& leg :
+       {std::string("<link name='leg'/>"),
+        std::string("<link name='leg'><inertial><mass value='0'/><inertia ixx='0' ixy='0' ixz='0' "
+                    "iyy='0' iyz='0' izz='0'/></inertial></link>")}) {
+    std::ofstream(path) << base + leg + tail;
+    WorldOptions o = options("imu: {frame: base}\nlidar: {enabled: false}\n");
+    o.urdfPath = path;
+    o.contacts = {{"foot", "foot", {0, 0, 0}}};
+    {
+      MujocoWorld world(o);
+      EXPECT_EQ(world.numJoints(), 1);
+      EXPECT_NEAR(world.mass(), 1.0, 1e-5);
+    }
+    o.locked = {{"hip", 0.5}};
+    MujocoWorld welded(o);
+    EXPECT_EQ(welded.numJoints(), 0);
+    EXPECT_NEAR(welded.mass(), 1.0, 1e-12);
+  }
 }
 
 }  // namespace

@@ -149,10 +149,105 @@ TEST(UrdfLoader, FloatingJointInsideTheTreeIsRejected) {
   EXPECT_NE(msg.find("<joint name=\"j1\">: type 'floating'"), std::string::npos) << msg;
 }
 
-TEST(UrdfLoader, MovingLinkWithoutInertialIsRejected) {
-  const std::string msg = errorFor(tinyRobot(""));
-  EXPECT_NE(msg.find("tiny.urdf:4:3: <link name=\"child\">: no <inertial>"), std::string::npos)
-      << msg;
+TEST(UrdfLoader, AJointMovingNoInertiaIsLockedAndSaysWhy) {
+  // A link without <inertial>, of zero mass, or a point mass on the axis: the joint moves
+  // nothing the dynamics can see, so it is held at zero (within its limits), not a joint.
+  const std::string pointOnAxis =
+      R"(<inertial><mass value="1"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial>)";
+  const std::string massless =
+      R"(<inertial><mass value="0"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial>)";
+  for (const std::string& inertial : {std::string(), massless, pointOnAxis}) {
+    SCOPED_TRACE(inertial);
+    const model::Model m = loadUrdfString(
+        tinyRobot(inertial, "revolute", R"(<limit lower="0.2" upper="1" effort="10" velocity="5"/>)"),
+        "tiny.urdf");
+    EXPECT_EQ(m.nj(), 0);
+    ASSERT_EQ(m.lockedJoints.size(), 1u);
+    EXPECT_EQ(m.lockedJoints[0].name, "j1");
+    EXPECT_DOUBLE_EQ(m.lockedJoints[0].position, 0.2);  // zero is outside its limits
+    EXPECT_NE(m.lockedJoints[0].reason.find("no inertia about its axis"), std::string::npos)
+        << m.lockedJoints[0].reason;
+    EXPECT_EQ(m.frames[m.frameId("child")].body, 0);
+  }
+  // A point mass off the axis is a pendulum: a joint.
+  const std::string pointOffAxis =
+      R"(<inertial><origin xyz="0 0 -0.3"/><mass value="1"/><inertia ixx="0" ixy="0" ixz="0" iyy="0" iyz="0" izz="0"/></inertial>)";
+  EXPECT_EQ(loadUrdfString(tinyRobot(pointOffAxis), "tiny.urdf").nj(), 1);
+}
+
+TEST(UrdfLoader, AMasslessLinkCarryingMovingLinksIsABodyOfZeroInertia) {
+  // Vendors chain joints through massless links (a hip's yaw and roll meeting at one point).
+  const std::string xml = tinyRobot(
+      "", "revolute", R"(<limit lower="-1" upper="1" effort="10" velocity="5"/>)",
+      R"(<axis xyz="0 0 1"/>)",
+      "  <link name=\"grandchild\">" + kInertial + "</link>\n"
+      "  <joint name=\"j2\" type=\"revolute\"><parent link=\"child\"/><child link=\"grandchild\"/>"
+      "<origin xyz=\"0.1 0 0\"/><axis xyz=\"1 0 0\"/>"
+      "<limit lower=\"-1\" upper=\"1\" effort=\"10\" velocity=\"5\"/></joint>\n");
+  const model::Model m = loadUrdfString(xml, "tiny.urdf");
+  EXPECT_EQ(m.nj(), 2);
+  EXPECT_TRUE(m.lockedJoints.empty());
+  EXPECT_EQ(m.inertia[1].mass, 0.0);
+  model::Data<double> d(m);
+  const model::VecX<double> q = model::neutralConfiguration(m);
+  model::crba(m, d, q);
+  const Eigen::LLT<model::MatX<double>> llt(d.M);
+  EXPECT_EQ(llt.info(), Eigen::Success);  // the mass matrix is positive definite
+}
+
+TEST(UrdfLoader, AMimicJointIsHeldWhereItsLeaderPutsIt) {
+  const std::string xml = tinyRobot(
+      kInertial, "revolute", R"(<limit lower="-1" upper="1" effort="10" velocity="5"/>)",
+      R"(<axis xyz="0 1 0"/>)",
+      "  <link name=\"finger\">" + kInertial + "</link>\n"
+      "  <joint name=\"j2\" type=\"revolute\"><parent link=\"child\"/><child link=\"finger\"/>"
+      "<axis xyz=\"0 1 0\"/><limit lower=\"-1\" upper=\"1\" effort=\"10\" velocity=\"5\"/>"
+      "<mimic joint=\"j1\" multiplier=\"-2\" offset=\"0.1\"/></joint>\n");
+  const model::Model free = loadUrdfString(xml, "tiny.urdf");
+  EXPECT_EQ(free.nj(), 1);
+  ASSERT_EQ(free.lockedJoints.size(), 1u);
+  EXPECT_EQ(free.lockedJoints[0].name, "j2");
+  EXPECT_DOUBLE_EQ(free.lockedJoints[0].position, 0.1);  // -2 * 0 + 0.1
+  EXPECT_NE(free.lockedJoints[0].reason.find("mimics joint 'j1'"), std::string::npos);
+  // Its leader locked at 0.3: -2 * 0.3 + 0.1 = -0.5.
+  model::UrdfOptions options;
+  options.locked["j1"] = 0.3;
+  const model::Model locked = loadUrdfString(xml, "tiny.urdf", options);
+  EXPECT_EQ(locked.nj(), 0);
+  ASSERT_EQ(locked.lockedJoints.size(), 2u);
+  EXPECT_EQ(locked.lockedJoints[0].reason, "robot.locked_joints");
+  EXPECT_DOUBLE_EQ(locked.lockedJoints[1].position, -0.5);
+  // The finger is where j1 at 0.3 and j2 at -0.5 put it: rotated by -0.2 about y in the base.
+  const model::Mat3<double> R = locked.frames[locked.frameId("finger")].placement.R;
+  EXPECT_NEAR(R(0, 2), std::sin(-0.2), 1e-12);
+}
+
+TEST(UrdfLoader, VendorFilesCrlfAndSimulatorElementsLoadAsTheSameModel) {
+  std::string vendor = tinyRobot(
+      kInertial, "revolute", R"(<limit lower="-1" upper="1" effort="10" velocity="5"/>)",
+      R"(<axis xyz="0 1 0"/>)",
+      "  <gazebo reference=\"child\"><mu1>0.8</mu1></gazebo>\n"
+      "  <transmission name=\"t1\"><type>transmission_interface/SimpleTransmission</type>"
+      "<joint name=\"j1\"><hardwareInterface>EffortJointInterface</hardwareInterface></joint>"
+      "</transmission>\n"
+      "  <mujoco><compiler meshdir=\"meshes\"/></mujoco>\n");
+  vendor.replace(vendor.find("<link name=\"child\">") + 19, 0,
+                 "<visual><geometry><mesh filename=\"package://robot/meshes/child.STL\"/>"
+                 "</geometry></visual>");
+  std::string crlf;
+  for (const char c : vendor) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  const model::Model plain = loadUrdfString(tinyRobot(), "tiny.urdf");
+  for (const std::string& xml : {vendor, crlf}) {
+    const model::Model m = loadUrdfString(xml, "vendor.urdf");
+    EXPECT_EQ(m.nj(), plain.nj());
+    EXPECT_EQ(m.jointName, plain.jointName);
+    EXPECT_NEAR(m.totalMass(), plain.totalMass(), 1e-12);
+  }
+  // Positions in messages still count lines in a CRLF file.
+  std::string broken = crlf;
+  broken.replace(broken.find("</joint>"), 8, "</jont>");
+  EXPECT_TRUE(std::regex_search(errorFor(broken), std::regex(R"(^tiny\.urdf:7:\d+: XML error)")))
+      << errorFor(broken);
 }
 
 TEST(UrdfLoader, NonPhysicalInertiaIsRejected) {
@@ -164,12 +259,12 @@ TEST(UrdfLoader, NonPhysicalInertiaIsRejected) {
       << errorFor(tinyRobot(triangle));
   const std::string indefinite =
       R"(<inertial><mass value="1"/><inertia ixx="0.1" ixy="0.3" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>)";
-  EXPECT_NE(errorFor(tinyRobot(indefinite)).find("not positive definite"), std::string::npos)
+  EXPECT_NE(errorFor(tinyRobot(indefinite)).find("not positive semi-definite"), std::string::npos)
       << errorFor(tinyRobot(indefinite));
-  const std::string massless =
-      R"(<inertial><mass value="0"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>)";
-  EXPECT_NE(errorFor(tinyRobot(massless)).find("mass must be positive"), std::string::npos)
-      << errorFor(tinyRobot(massless));
+  const std::string negative =
+      R"(<inertial><mass value="-1"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>)";
+  EXPECT_NE(errorFor(tinyRobot(negative)).find("mass must be positive"), std::string::npos)
+      << errorFor(tinyRobot(negative));
 }
 
 TEST(UrdfLoader, BadLimitsAreRejected) {
