@@ -36,6 +36,7 @@
 #include <CLI/CLI.hpp>
 
 #include "main/daemon.hpp"
+#include "main/describe_robot.hpp"
 #include "profile/schema.hpp"
 
 using namespace ballast;
@@ -146,11 +147,24 @@ int main(int argc, char** argv) {
   app.add_flag("--check", check,
                "validate the profile as a start would (the robot model, the terrain map, the "
                "backend's own section through its plugin) without starting anything, and exit");
+  std::string describe;
+  app.add_option("--describe-robot", describe,
+                 "describe the robot of this URDF (mass, limbs, joints, feet) and print a starter "
+                 "profile for it, and exit");
   app.set_version_flag("--version", BALLAST_VERSION);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : 2;
+  }
+  if (!describe.empty()) {
+    try {
+      std::cout << daemon::describeRobot(describe);
+      return 0;
+    } catch (const std::exception& e) {
+      std::cerr << "ballastd: " << e.what() << "\n";
+      return 1;
+    }
   }
   if (dumpSchema == "man" || dumpSchema == "yaml") {
     std::vector<profile::BackendSectionDoc> backends;

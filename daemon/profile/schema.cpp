@@ -351,7 +351,12 @@ cannot change on a running daemon: a profile switch that changes one is refused.
 the backend's own keys, those of the plugin backend.name loads: below, for the plugins built
 with this ballastd
 )" + sections + R"(.SH BRINGING UP A NEW ROBOT
-A vendor's URDF is used as it comes; the profile says what it lacks. Extend a shipped profile,
+.B ballastd \-\-describe\-robot
+.I robot.urdf
+prints a starter profile for the robot (contact points from the feet's collision geometry,
+joint groups from the tree, a standing posture), its description in comments above it: a first
+step, to check and edit. By hand: a vendor's URDF is used as it comes; the profile says what it
+lacks. Extend a shipped profile,
 set
 .B robot.urdf
 and list every movable joint in
