@@ -58,19 +58,28 @@ bool SocketcanBackend::configure(const backend::Config& config, backend::Error& 
     checkBusLoad(settings_, period_);
     const std::vector<plugin::UrdfJoint> joints =
         plugin::urdfJoints(config.urdf_path ? config.urdf_path : "");
-    // Holding a locked joint needs gains of its own at the motor (not declared yet): refused
-    // rather than left without commands.
+    // The joints the model holds (the profile's locks, mimic joints, joints moving no inertia)
+    // are commanded by nobody. One without a motor (a finger coupled to its leader, a sensor's
+    // joint) needs nothing; holding one that has a motor needs gains of its own at the motor,
+    // not declared yet: refused rather than left without commands.
+    std::vector<std::string> held;
     for (int i = 0; i < config.num_joint_models; ++i)
-      if (config.joints && config.joints[i].locked)
-        throw SettingsError(settings_.where("motors") + "joint " + config.joints[i].name +
-                            " is locked (robot.locked_joints): this backend cannot hold a locked "
-                            "joint yet; unlock it or fix it in the URDF");
-    // A motor for every movable joint, in URDF order; no motor for anything else.
+      if (config.joints && config.joints[i].locked && config.joints[i].name)
+        held.emplace_back(config.joints[i].name);
+    // A motor for every movable joint not held, in URDF order; no motor for anything else.
     motors_.clear();
     for (const plugin::UrdfJoint& j : joints) {
       if (!j.movable) continue;
       const auto it = std::find_if(settings_.motors.begin(), settings_.motors.end(),
                                    [&](const MotorEntry& m) { return m.joint == j.name; });
+      if (std::find(held.begin(), held.end(), j.name) != held.end()) {
+        if (it != settings_.motors.end())
+          throw SettingsError(settings_.where("motors." + j.name) + "joint " + j.name +
+                              " is held fixed by the model (robot.locked_joints, or the URDF's "
+                              "mimic or massless joint): this backend cannot hold a motor at an "
+                              "angle yet; unlock the joint or leave its motor out");
+        continue;
+      }
       if (it == settings_.motors.end())
         throw SettingsError(settings_.where("motors") + "joint " + j.name + " of " +
                             config.urdf_path + " has no motor (give motors." + j.name +
@@ -82,7 +91,8 @@ bool SocketcanBackend::configure(const backend::Config& config, backend::Error& 
     }
     for (const MotorEntry& m : settings_.motors)
       if (std::none_of(motors_.begin(), motors_.end(),
-                       [&](const Motor& x) { return x.entry.joint == m.joint; }))
+                       [&](const Motor& x) { return x.entry.joint == m.joint; }) &&
+          std::find(held.begin(), held.end(), m.joint) == held.end())
         throw SettingsError(settings_.where("motors." + m.joint) + std::string(config.urdf_path) +
                             " has no movable joint " + m.joint);
     if (static_cast<int>(motors_.size()) > backend::kMaxJoints)

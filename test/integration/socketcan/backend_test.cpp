@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "socketcan_backend.hpp"
+#include "urdf_joints.hpp"  // plugins/common
 #include "test/unit/allocation_counter.hpp"
 #include "test/integration/socketcan/can_rig.hpp"
 
@@ -396,6 +397,42 @@ TEST(SocketcanBackend, CheckFindsWhatConfigureWouldWithoutOpeningTheBuses) {
   config.section_yaml = missing.c_str();
   EXPECT_FALSE(SocketcanBackend::check(config, e));
   EXPECT_NE(std::string(e.message).find("joint right_wrist_pitch of " + urdf + " has no motor"),
+            std::string::npos)
+      << e.message;
+}
+
+TEST(SocketcanBackend, AJointTheModelHoldsNeedsNoMotorAndOneWithAMotorIsRefused) {
+  // The model holds the wrist yaws (the profile's locks, or a mimic finger): the section gives
+  // motors to the other 22 joints only, and the robot's joints are those 22.
+  const std::string urdf = humanoidUrdf();
+  backend::Config config;
+  config.section_origin = "robot.yaml:10";
+  config.urdf_path = urdf.c_str();
+  std::vector<backend::JointModel> models(2);
+  models[0].name = "left_wrist_yaw";
+  models[1].name = "right_wrist_yaw";
+  for (backend::JointModel& m : models) m.locked = true;
+  config.joints = models.data();
+  config.num_joint_models = 2;
+  std::string section =
+      "buses: [nocan0, nocan1, nocan2, nocan3, nocan4, nocan5, nocan6, nocan7]\nimu: {enabled: false}\n"
+      "ranges: {torque: 100}\nmotors:\n";
+  int id = 0;
+  for (const plugin::UrdfJoint& j : plugin::urdfJoints(urdf)) {
+    if (!j.movable || j.name == "left_wrist_yaw" || j.name == "right_wrist_yaw") continue;
+    section += "  " + j.name + ": {bus: nocan" + std::to_string(id % 8) + ", id: " +
+               std::to_string(id / 8 + 1) + "}\n";
+    ++id;
+  }
+  ASSERT_EQ(id, 22);
+  config.section_yaml = section.c_str();
+  backend::Error e;
+  EXPECT_TRUE(SocketcanBackend::check(config, e)) << e.message;
+  // A motor on a held joint: refused at its entry.
+  const std::string withMotor = section + "  left_wrist_yaw: {bus: nocan7, id: 9}\n";
+  config.section_yaml = withMotor.c_str();
+  EXPECT_FALSE(SocketcanBackend::check(config, e));
+  EXPECT_NE(std::string(e.message).find("joint left_wrist_yaw is held fixed by the model"),
             std::string::npos)
       << e.message;
 }
