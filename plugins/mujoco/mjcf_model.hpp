@@ -37,6 +37,7 @@
 #include <vector>
 
 #include "mujoco_settings.hpp"
+#include "simulated_robot.hpp"  // plugins/common
 #include "terrain_columns.hpp"  // plugins/common
 
 namespace ballast::mujoco {
@@ -54,12 +55,7 @@ struct Transform {
 /// What the model is built from.
 struct ModelInput {
   std::string urdfPath;
-  /// A contact point: its name (Config::contact_frames) on a URDF link at a position in that
-  /// link's frame (Config::contact_points; a link's own origin when the profile names a link).
-  struct ContactPoint {
-    std::string name, link;
-    std::array<double, 3> position{0, 0, 0};
-  };
+  using ContactPoint = plugin::SimulatedRobot::ContactPoint;
   std::vector<ContactPoint> contacts;
   std::map<std::string, double> locked;      ///< joint -> position it is welded at (Config::joints)
   MujocoSettings settings;

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <string>
 
+#include "simulated_robot.hpp"  // plugins/common
 #include "terrain_columns.hpp"  // plugins/common
 
 namespace ballast::mujoco {
@@ -23,30 +24,11 @@ bool MujocoBackend::configure(const backend::Config& config, backend::Error& err
       throw std::runtime_error("Config::urdf_path is empty: the simulation needs the robot's URDF");
     WorldOptions options;
     options.urdfPath = config.urdf_path;
-    for (int i = 0; i < config.num_contacts; ++i) {
-      if (!config.contact_frames || !config.contact_frames[i])
-        throw std::runtime_error("Config::contact_frames[" + std::to_string(i) + "] is missing");
-      ModelInput::ContactPoint c;
-      c.name = c.link = config.contact_frames[i];
-      if (config.contact_points) {
-        const backend::ContactPoint& p = config.contact_points[i];
-        if (!p.link || !*p.link)
-          throw std::runtime_error("Config::contact_points[" + std::to_string(i) + "] has no link");
-        c.link = p.link;
-        c.position = {p.position[0], p.position[1], p.position[2]};
-      }
-      options.contacts.push_back(c);
-    }
+    const plugin::SimulatedRobot robot = plugin::simulatedRobot(config);
+    options.contacts = robot.contacts;
     options.settings = settings_;
-    for (int i = 0; i < config.num_joint_models; ++i)
-      if (config.joints && config.joints[i].name) {
-        if (config.joints[i].armature < 0.0 || !std::isfinite(config.joints[i].armature))
-          throw std::runtime_error(std::string("Config::joints: joint ") + config.joints[i].name +
-                                   ": armature must be finite and >= 0");
-        options.armature[config.joints[i].name] = config.joints[i].armature;
-        if (config.joints[i].locked)
-          options.locked[config.joints[i].name] = config.joints[i].locked_position;
-      }
+    options.armature = robot.armature;
+    options.locked = robot.locked;
     options.terrainMap = settings_.terrain_map.empty()
                              ? std::string(config.terrain_map ? config.terrain_map : "")
                              : plugin::resolveTerrainMap(settings_.terrain_map, settings_.origin,

@@ -156,17 +156,32 @@ class CpuThief {
   double after_ = 0.0, seconds_ = 0.0;
 };
 
+/// A Simbody backend in real time at 2 ms periods with `yaml` as its section, started.
+struct RealTimeSim {
+  explicit RealTimeSim(const std::string& yaml = "") {
+    config.lockstep = false;
+    config.period = 0.002;
+    config.yaml = yaml;
+  }
+  ::testing::AssertionResult start() {
+    backend::Error error;
+    if (sim.configure(config.config(), error) && sim.start(error))
+      return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure() << error.message;
+  }
+  SimConfig config;
+  SimbodyBackend sim;
+};
+
 TEST_F(RealTime, TheWorldWaitsForAHostThatDoesNotRunTheControlThread) {
   // The simulator runs on the host: when the host does not run the control thread although it
   // is ready, the world stops with it (one period simulated, no period skipped, not late) and
   // the tick says how long (host_stall); the controller's own stalls (it blocks: the test
   // above) still pass in the world.
-  SimConfig config;
-  config.lockstep = false;
-  config.period = 0.002;
-  SimbodyBackend sim;
-  backend::Error error;
-  ASSERT_TRUE(sim.configure(config.config(), error) && sim.start(error)) << error.message;
+  RealTimeSim rt;
+  ASSERT_TRUE(rt.start());
+  SimbodyBackend& sim = rt.sim;
+  const SimConfig& config = rt.config;
   CpuThief thief;
   if (!thief.ok()) GTEST_SKIP() << "needs SCHED_FIFO and CPU affinity to emulate the host";
   backend::TickTiming timing;
@@ -193,13 +208,10 @@ TEST_F(RealTime, AnInjectedDelayIsTheControllersAndItsLateWakeUpTheHosts) {
   // A 10 ms delay injected into the tick (as a slow tick's work) passes in the world: the tick
   // is late by it. The host keeping the thread asleep past the delay's end (the thief runs from
   // 3 to 18 ms) is the host's: the world waits for that part, and the tick says so.
-  SimConfig config;
-  config.lockstep = false;
-  config.period = 0.002;
-  config.yaml = "host:\n  stall_at: 0.05\n  stall: 0.010\n";
-  SimbodyBackend sim;
-  backend::Error error;
-  ASSERT_TRUE(sim.configure(config.config(), error) && sim.start(error)) << error.message;
+  RealTimeSim rt("host:\n  stall_at: 0.05\n  stall: 0.010\n");
+  ASSERT_TRUE(rt.start());
+  SimbodyBackend& sim = rt.sim;
+  const SimConfig& config = rt.config;
   CpuThief thief;
   if (!thief.ok()) GTEST_SKIP() << "needs SCHED_FIFO and CPU affinity to emulate the host";
   backend::TickTiming timing;

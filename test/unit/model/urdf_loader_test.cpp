@@ -175,15 +175,21 @@ TEST(UrdfLoader, AJointMovingNoInertiaIsLockedAndSaysWhy) {
   EXPECT_EQ(loadUrdfString(tinyRobot(pointOffAxis), "tiny.urdf").nj(), 1);
 }
 
+/// A second link (`inner` inside <link>) on revolute joint j2 from `parent`, `joint` inside it.
+std::string secondLink(const std::string& name, const std::string& parent, const std::string& inner,
+                       const std::string& joint) {
+  return "  <link name=\"" + name + "\">" + inner + "</link>\n"
+         "  <joint name=\"j2\" type=\"revolute\"><parent link=\"" + parent + "\"/><child link=\"" +
+         name + "\"/>" + joint +
+         "<limit lower=\"-1\" upper=\"1\" effort=\"10\" velocity=\"5\"/></joint>\n";
+}
+
 TEST(UrdfLoader, AMasslessLinkCarryingMovingLinksIsABodyOfZeroInertia) {
   // Vendors chain joints through massless links (a hip's yaw and roll meeting at one point).
   const std::string xml = tinyRobot(
       "", "revolute", R"(<limit lower="-1" upper="1" effort="10" velocity="5"/>)",
       R"(<axis xyz="0 0 1"/>)",
-      "  <link name=\"grandchild\">" + kInertial + "</link>\n"
-      "  <joint name=\"j2\" type=\"revolute\"><parent link=\"child\"/><child link=\"grandchild\"/>"
-      "<origin xyz=\"0.1 0 0\"/><axis xyz=\"1 0 0\"/>"
-      "<limit lower=\"-1\" upper=\"1\" effort=\"10\" velocity=\"5\"/></joint>\n");
+      secondLink("grandchild", "child", kInertial, R"(<origin xyz="0.1 0 0"/><axis xyz="1 0 0"/>)"));
   const model::Model m = loadUrdfString(xml, "tiny.urdf");
   EXPECT_EQ(m.nj(), 2);
   EXPECT_TRUE(m.lockedJoints.empty());
@@ -199,10 +205,8 @@ TEST(UrdfLoader, AMimicJointIsHeldWhereItsLeaderPutsIt) {
   const std::string xml = tinyRobot(
       kInertial, "revolute", R"(<limit lower="-1" upper="1" effort="10" velocity="5"/>)",
       R"(<axis xyz="0 1 0"/>)",
-      "  <link name=\"finger\">" + kInertial + "</link>\n"
-      "  <joint name=\"j2\" type=\"revolute\"><parent link=\"child\"/><child link=\"finger\"/>"
-      "<axis xyz=\"0 1 0\"/><limit lower=\"-1\" upper=\"1\" effort=\"10\" velocity=\"5\"/>"
-      "<mimic joint=\"j1\" multiplier=\"-2\" offset=\"0.1\"/></joint>\n");
+      secondLink("finger", "child", kInertial,
+                 R"(<axis xyz="0 1 0"/><mimic joint="j1" multiplier="-2" offset="0.1"/>)"));
   const model::Model free = loadUrdfString(xml, "tiny.urdf");
   EXPECT_EQ(free.nj(), 1);
   ASSERT_EQ(free.lockedJoints.size(), 1u);
