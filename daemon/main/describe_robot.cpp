@@ -14,6 +14,8 @@
 
 #include "model/algorithms.hpp"
 #include "model/limbs.hpp"
+#include "profile/schema.hpp"
+#include "profile/settings.hpp"
 
 namespace ballast::daemon {
 namespace {
@@ -209,8 +211,11 @@ std::string describeRobot(const std::string& urdfPath) {
                    m.totalMass(), limbMass, 100.0 * limbMass / m.totalMass(), m.bodyName[0],
                    m.inertia[0].mass);
   o += fmt::format("# {} movable joints{}:\n", m.nj(),
-                   m.nj() > 32 ? " (ballast controls at most 32: lock some in robot.locked_joints)"
-                               : "");
+                   m.nj() > 32 ? " (ballast controls at most 32: lock some in " +
+                                     std::string(profile::table().keyOf<&profile::Settings::joints,
+                                                                        &profile::JointSettings::locked>()) +
+                                     ")"
+                               : std::string());
   o += "#   joint                          axis (world, zero posture)   lower    upper   effort  velocity\n";
   for (int j = 0; j < m.nj(); ++j) {
     const Vec3<double> axis = d.oMi[j + 1].R * m.jointAxis[j + 1];

@@ -39,7 +39,7 @@ struct LockedJoint {
   std::string name;
   double position = 0.0;  ///< rad, or m for a prismatic joint
   bool prismatic = false;
-  std::string reason;     ///< for people: "robot.locked_joints", "mimics joint 'x'", ...
+  std::string reason;     ///< for people: the caller's reason, "mimics joint 'x'", ...
 };
 
 struct Model {

@@ -141,7 +141,7 @@ Inertia<double> linkInertia(const urdf::Link& link, const SourceIndex& src) {
 class TreeBuilder {
  public:
   TreeBuilder(const urdf::ModelInterface& urdf, const SourceIndex& src, const UrdfOptions& options)
-      : urdf_(urdf), src_(src), locked_(options.locked) {
+      : urdf_(urdf), src_(src), locked_(options.locked), requestedReason_(options.lockedReason) {
     for (const auto& [name, position] : options.locked) {
       const urdf::JointConstSharedPtr joint = urdf_.getJoint(name);
       if (!joint)
@@ -265,7 +265,7 @@ class TreeBuilder {
 
   std::string lockReason(const std::string& joint) const {
     const auto it = reasons_.find(joint);
-    return it == reasons_.end() ? "robot.locked_joints" : it->second;
+    return it == reasons_.end() ? requestedReason_ : it->second;
   }
 
   void collectGroup(const urdf::Link& link, int body, const SE3<double>& placement,
@@ -371,6 +371,7 @@ class TreeBuilder {
   const SourceIndex& src_;
   std::map<std::string, double> locked_;       ///< the profile's, then the mimic and inert ones
   std::map<std::string, std::string> reasons_;  ///< why, for those the URDF locks itself
+  std::string requestedReason_;                 ///< why, for UrdfOptions::locked
   Model model_;
   std::vector<double> lower_, upper_, velocity_, effort_;
 };

@@ -15,7 +15,7 @@
 //
 // Locked joints are fixed at a position: merged like fixed joints, the child placed where the
 // joint at that position puts it; they are not the model's joints and Model::lockedJoints lists
-// them with the reason. They are the profile's (UrdfOptions::locked, robot.locked_joints: a name
+// them with the reason. They are the caller's (UrdfOptions::locked, the profile's: a name
 // that is not a movable joint, or a position outside its limits, is a LockedJointError naming
 // the joint), and two kinds the URDF itself cannot actuate: mimic joints (held where their
 // leader's locked position, else zero, puts them) and joints that move no inertia (a link
@@ -39,6 +39,7 @@ struct LockedJointError : ModelError {
 
 struct UrdfOptions {
   std::map<std::string, double> locked;  ///< joint -> position (rad or m) it is fixed at
+  std::string lockedReason = "locked on request";  ///< LockedJoint::reason for those
 };
 
 Model loadUrdfFile(const std::string& path, const UrdfOptions& options = {});

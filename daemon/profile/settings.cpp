@@ -168,6 +168,7 @@ model::Model loadModel(const Profile& profile) {
   model::Model model;
   model::UrdfOptions options;
   options.locked.insert(s.joints.locked.begin(), s.joints.locked.end());
+  options.lockedReason = keyOf(s, &s.joints.locked);
   try {
     model = model::loadUrdfFile(s.urdf, options);
   } catch (const model::LockedJointError& e) {

@@ -219,7 +219,7 @@ TEST(UrdfLoader, AMimicJointIsHeldWhereItsLeaderPutsIt) {
   const model::Model locked = loadUrdfString(xml, "tiny.urdf", options);
   EXPECT_EQ(locked.nj(), 0);
   ASSERT_EQ(locked.lockedJoints.size(), 2u);
-  EXPECT_EQ(locked.lockedJoints[0].reason, "robot.locked_joints");
+  EXPECT_EQ(locked.lockedJoints[0].reason, "locked on request");
   EXPECT_DOUBLE_EQ(locked.lockedJoints[1].position, -0.5);
   // The finger is where j1 at 0.3 and j2 at -0.5 put it: rotated by -0.2 about y in the base.
   const model::Mat3<double> R = locked.frames[locked.frameId("finger")].placement.R;
