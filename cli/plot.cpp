@@ -237,8 +237,17 @@ void contacts(Script& s) {
              {"heel", kPalette[1], {"fz_" + heel}},
              {"foot", kEstimate, {"fz_" + toe, "fz_" + heel}, "@0 + @1"}});
   }
-  s.schedule("(c) contact schedule (estimator)", {"contact_0", "contact_1", "contact_2", "contact_3"},
-             {"left toe", "left heel", "right toe", "right heel"});
+  // The plan's schedule above the estimator's, point by point: a late or early touchdown shows
+  // as the two rows disagreeing.
+  std::vector<std::string> flags, labels;
+  const char* const points[] = {"left toe", "left heel", "right toe", "right heel"};
+  for (int c = 0; c < 4; ++c) {
+    flags.push_back("contact_" + std::to_string(c));
+    labels.push_back(points[c]);
+    flags.push_back("planned_" + std::to_string(c));
+    labels.push_back(std::string(points[c]) + " (plan)");
+  }
+  s.schedule("(c) contact schedule: plan and estimator", flags, labels);
   std::vector<Series> friction;
   for (int foot = 0; foot < 2; ++foot) {
     const std::string a = std::to_string(2 * foot), b = std::to_string(2 * foot + 1);

@@ -412,7 +412,8 @@ void ControlLoop::readSensors() {
   t_ = sensors_.time;
   // The contact schedule of the plan in force (standing: every point) and the terrain heights
   // its contact points stand on (from the planner's map; before a plan, the ground height).
-  std::array<bool, kNumContacts> scheduled{true, true, true, true};
+  std::array<bool, kNumContacts>& scheduled = scheduled_;
+  scheduled.fill(true);
   std::array<double, kNumContacts> terrain;
   terrain.fill(settings_->ground_height);
   if (have_plan_) {
@@ -673,7 +674,10 @@ void ControlLoop::record() {
   f.has_truth = sensors_.has_truth;
   f.truth = truth_;
   f.command = modes_.command();
-  for (int c = 0; c < kNumContacts; ++c) f.contact[c] = input_.state.contact[c];
+  for (int c = 0; c < kNumContacts; ++c) {
+    f.contact[c] = input_.state.contact[c];
+    f.planned_contact[c] = scheduled_[c];
+  }
   for (int i = 0; i < kNumPriorityLevels; ++i) f.task_error[i] = output_.task_error[i];
   std::memcpy(f.contact_force, output_.contact_force, sizeof f.contact_force);
   f.mpc_ms = have_plan_ ? plan_.solve_ms : 0.0;

@@ -143,6 +143,8 @@ class ControlLoop {
   /// The last valid plan, the loop's own copy (the planner's buffers turn over underneath).
   PlannerOutput plan_;
   bool have_plan_ = false;
+  /// This tick's contact schedule from the plan in force (standing, no plan: every point).
+  std::array<bool, kNumContacts> scheduled_{true, true, true, true};
   bool planning_ = false;  // inputs are being posted (stand, walk)
   std::uint64_t first_sequence_ = 0;  // of the input that restarted planning
   std::uint64_t failed_sequence_ = 0;  // of the last answer without a valid plan

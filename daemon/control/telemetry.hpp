@@ -43,6 +43,7 @@ struct TelemetryFrame {
   BaseState truth;
   BaseCommand command;
   bool contact[kNumContacts] = {};
+  bool planned_contact[kNumContacts] = {};  ///< stance in the plan in force (standing: all)
   double task_error[kNumPriorityLevels] = {};
   double contact_force[kNumContacts][3] = {};  ///< ControllerOutput::contact_force
   double mpc_ms = 0.0, wbc_ms = 0.0;
@@ -73,10 +74,11 @@ const std::vector<TelemetryColumn>& telemetryTable();
 /// unit, what a recording keeps and the doc).
 std::string telemetryColumnsMan();
 
-/// The most columns a frame has (t, mode, base estimate and truth, command, contacts and their
-/// forces, task errors, times, limb error, five values per joint); a test holds it to the table.
+/// The most columns a frame has (t, mode, base estimate and truth, command, contacts measured and
+/// planned and their forces, task errors, times, limb error, five values per joint); a test holds
+/// it to the table.
 inline constexpr std::size_t kMaxTelemetryColumns =
-    2 + 28 + 7 + 4 * kNumContacts + kNumPriorityLevels + 5 + 5 * kMaxJoints;
+    2 + 28 + 7 + 5 * kNumContacts + kNumPriorityLevels + 5 + 5 * kMaxJoints;
 
 /// Column names, in file order, for a robot with these joints.
 std::vector<std::string> telemetryColumns(const std::vector<std::string>& joint_names);

@@ -109,6 +109,7 @@ const std::vector<TelemetryColumn> kTable = {
   {"cmd_yaw", kOnce, "rad", kF64, 0, "commanded base yaw", [](const TelemetryFrame& f, int) { return f.command.yaw; }},
 
   {"contact_", kContacts, "-", kU8, 0, "1 where the contact point is in contact (estimator): 0 left toe, 1 left heel, 2 right toe, 3 right heel", [](const TelemetryFrame& f, int i) { return f.contact[i] ? 1.0 : 0.0; }},
+  {"planned_", kContacts, "-", kU8, 0, "1 where the plan in force has the contact point in stance, 0 in swing (as contact_; standing and before a plan: 1)", [](const TelemetryFrame& f, int i) { return f.planned_contact[i] ? 1.0 : 0.0; }},
   {"fx_", kContacts, "N", kI32, 0.1, "the contact force the whole-body controller asks for at contact point 0..3 (as contact_), on the robot, world frame x; 0 in swing, NaN without the controller", [](const TelemetryFrame& f, int i) { return f.contact_force[i][0]; }},
   {"fy_", kContacts, "N", kI32, 0.1, "the same along y", [](const TelemetryFrame& f, int i) { return f.contact_force[i][1]; }},
   {"fz_", kContacts, "N", kI32, 0.1, "the same along z (the normal force on flat ground)", [](const TelemetryFrame& f, int i) { return f.contact_force[i][2]; }},
