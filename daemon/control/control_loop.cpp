@@ -300,7 +300,7 @@ void ControlLoop::planPost() {
   // The planner works in stand and walk; leaving them forgets the plan.
   const Mode mode = modes_.mode();
   const bool plan = planner_.available() && sensors_ok_ && !shutting_down_ &&
-                    (mode == Mode::kStand || mode == Mode::kWalk);
+                    (mode == Mode::kStand || mode == Mode::kWalk || mode == Mode::kRecover);
   if (!plan) {
     planning_ = false;
     have_plan_ = false;
@@ -345,6 +345,7 @@ void ControlLoop::planPost() {
     } else {
       plan_ = *p;  // a copy the planner cannot overwrite (about 80 kB, once per plan)
       have_plan_ = true;
+      modes_.recovering(plan_.plan.recovering, t_);
       // The solves' recent latency, for the next plan's lead (real time).
       solve_time_ = solve_time_ > 0.0 ? 0.8 * solve_time_ + 0.2 * p->solve_ms * 1e-3
                                       : p->solve_ms * 1e-3;
@@ -523,7 +524,9 @@ void ControlLoop::detectFall() {
   fallen_ =
       tilt > s.max_tilt || height < s.min_base_height || (nonFoot && s.fall_on_non_foot_contact);
   const Mode m = modes_.mode();
-  if (!fallen_ || !(m == Mode::kStandUp || m == Mode::kStand || m == Mode::kWalk)) return;
+  if (!fallen_ ||
+      !(m == Mode::kStandUp || m == Mode::kStand || m == Mode::kWalk || m == Mode::kRecover))
+    return;
   if (tilt > s.max_tilt)
     std::snprintf(message_, sizeof(message_), "base tilted %.2f rad (%s %.2f)", tilt,
                   settingName(s, &s.max_tilt, "limit"), s.max_tilt);
@@ -566,7 +569,8 @@ void ControlLoop::computeCommands() {
   input_.stand_up_progress = modes_.standUpProgress(t_);
   input_.command = modes_.command();
   input_.plan = have_plan_ ? &plan_ : nullptr;
-  if ((mode == Mode::kStand || mode == Mode::kWalk) && walking_.ready(input_.plan)) {
+  if ((mode == Mode::kStand || mode == Mode::kWalk || mode == Mode::kRecover) &&
+      walking_.ready(input_.plan)) {
     const wbc::WbcStatus status = walking_.compute(input_, output_);
     if (status == wbc::WbcStatus::kInvalidInput) {
       raise(FaultKind::kNotANumber,

@@ -19,6 +19,8 @@ const char* modeName(Mode mode) {
       return "walk";
     case Mode::kDamp:
       return "damp";
+    case Mode::kRecover:
+      return "recover";
   }
   return "unknown";
 }
@@ -165,6 +167,7 @@ Refusal ModeMachine::handle(const OperatorCommand& c, double t, const Situation&
           return Refusal::kNone;
         case Mode::kStandUp:
         case Mode::kStand:
+        case Mode::kRecover:  // the planner ends the steps when they have done their work
           return Refusal::kNone;
       }
       break;
@@ -175,7 +178,7 @@ Refusal ModeMachine::handle(const OperatorCommand& c, double t, const Situation&
                       "walking needs the planner and this ballastd runs without one: the robot "
                       "keeps standing; use `ballast pose` to move the base in place");
       if (mode_ == Mode::kDamp) return refuseDamped("stand");
-      if (mode_ != Mode::kStand && mode_ != Mode::kWalk)
+      if (mode_ != Mode::kStand && mode_ != Mode::kWalk && mode_ != Mode::kRecover)
         return refuse(Refusal::kRefused,
                       mode_ == Mode::kStandUp
                           ? "the robot is still standing up: wait until `ballast status` says "
@@ -209,7 +212,8 @@ Refusal ModeMachine::handle(const OperatorCommand& c, double t, const Situation&
       return Refusal::kNone;
 
     case CommandKind::kPose: {
-      if (mode_ != Mode::kStandUp && mode_ != Mode::kStand && mode_ != Mode::kWalk)
+      if (mode_ != Mode::kStandUp && mode_ != Mode::kStand && mode_ != Mode::kWalk &&
+          mode_ != Mode::kRecover)
         return mode_ == Mode::kDamp
                    ? refuseDamped("stand")
                    : refuse(Refusal::kRefused,
@@ -257,6 +261,11 @@ bool ModeMachine::fault(FaultKind kind, double t, const char* message) {
   const bool fresh = faults_.add(kind, t, message);
   setMode(Mode::kDamp, t);
   return fresh;
+}
+
+void ModeMachine::recovering(bool stepping, double t) {
+  if (stepping && mode_ == Mode::kStand) setMode(Mode::kRecover, t);
+  if (!stepping && mode_ == Mode::kRecover) setMode(Mode::kStand, t);
 }
 
 void ModeMachine::update(double t) {

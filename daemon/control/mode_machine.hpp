@@ -1,6 +1,7 @@
 // The operating modes and what moves the robot between them (DESIGN.md, "Modes"):
 //
 //   passive --stand--> stand-up --(stand_up_duration)--> stand <--walk/stop/TTL--> walk
+//   stand <--the planner's recovery steps (a push)--> recover --walk--> walk
 //   any fault (backend, NaN, fall) --> damp          estop --> damp, latched
 //   damp --reset--> passive                            passive: zero torque, on request
 //
@@ -43,6 +44,9 @@ class ModeMachine {
 
   /// A fault: damp (and remember it until reset). True if this kind of fault is new.
   bool fault(FaultKind kind, double t, const char* message);
+  /// The planner steps to recover from a push while standing (stand -> recover), or has
+  /// stopped (recover -> stand). Other modes are left as they are.
+  void recovering(bool stepping, double t);
   /// Time passes: a stand-up completes, a velocity command expires.
   void update(double t);
   /// Shutdown: damp without latching anything.

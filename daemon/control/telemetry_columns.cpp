@@ -68,7 +68,7 @@ constexpr Type kF64 = Type::kF64, kU8 = Type::kU8, kI32 = Type::kI32;
 // clang-format off
 const std::vector<TelemetryColumn> kTable = {
   {"t", kOnce, "s", kF64, 0, "controller time (simulated time in lockstep)", [](const TelemetryFrame& f, int) { return f.t; }},
-  {"mode", kOnce, "-", kU8, 0, "0 passive, 1 stand-up, 2 stand, 3 walk, 4 damp", [](const TelemetryFrame& f, int) { return double(f.mode); }},
+  {"mode", kOnce, "-", kU8, 0, "0 passive, 1 stand-up, 2 stand, 3 walk, 4 damp, 5 recover", [](const TelemetryFrame& f, int) { return double(f.mode); }},
 
   {"x", kOnce, "m", kI32, 1e-5, "base position x, world frame, estimated", estimate<0>},
   {"y", kOnce, "m", kI32, 1e-5, "base position y, world frame, estimated", estimate<1>},

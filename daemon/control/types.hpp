@@ -28,9 +28,11 @@ inline constexpr int kNumPriorityLevels = 4;
 inline constexpr int kMessageLength = 200;
 inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-enum class Mode : std::uint8_t { kPassive, kStandUp, kStand, kWalk, kDamp };
+/// kRecover: standing, the planner steps to recover from a push (last, so telemetry's numbers of
+/// the others stay).
+enum class Mode : std::uint8_t { kPassive, kStandUp, kStand, kWalk, kDamp, kRecover };
 
-/// "passive", "stand-up", "stand", "walk", "damp": the names status reports.
+/// "passive", "stand-up", "stand", "walk", "damp", "recover": the names status reports.
 const char* modeName(Mode mode);
 
 struct BaseState {

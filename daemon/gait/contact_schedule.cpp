@@ -28,8 +28,8 @@ const Gait& ContactSchedule::gaitAt(double t) const { return segmentAt(t).gait; 
 
 double ContactSchedule::swingStartOffset(const Gait& g, int contact) {
   // Cycle: double support, left swing, double support, right swing (phase 0 starts a double
-  // support). Heels leave `toeOffLead` before their toes.
-  const double footStart = (isLeft(contact) ? 0.5 * g.doubleSupport : 0.5 + 0.5 * g.doubleSupport) *
+  // support; the right foot first with rightFirst). Heels leave `toeOffLead` before their toes.
+  const double footStart = (isLeft(contact) != g.rightFirst ? 0.5 * g.doubleSupport : 0.5 + 0.5 * g.doubleSupport) *
                            g.period;
   const bool heel = contact == kLeftHeel || contact == kRightHeel;
   return footStart - (heel ? g.toeOffLead : 0.0);

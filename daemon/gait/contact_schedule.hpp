@@ -1,6 +1,7 @@
 // Contact schedule: which contact points are closed at a time, from the profile's gait.
 //
-// A gait is periodic with period T. Walking: the left foot lifts at phase 0, the right at 0.5;
+// A gait is periodic with period T. Walking: the left foot lifts at phase 0, the right at 0.5
+// (the other way round with `rightFirst`: a recovery step to the right starts with the right foot);
 // each foot swings for (1 − double_support)/2 of the period, so both feet are down for
 // `double_support` of each cycle, in two equal phases. A heel may lift (and land) `toe_off_lead`
 // seconds before its toe (heel-strike / toe-off); 0 moves toe and heel together. Standing
@@ -25,12 +26,13 @@ struct Gait {
   double period;          ///< s, one cycle (two steps)
   double doubleSupport;   ///< fraction of the cycle with both feet down
   double toeOffLead;      ///< s, heel leaves and lands this much before its toe
+  bool rightFirst = false;  ///< the right foot swings first in each cycle
 
   double swingDuration() const { return 0.5 * (1.0 - doubleSupport) * period; }
   double stanceDuration() const { return period - swingDuration(); }
   bool operator==(const Gait& o) const {
     return walking == o.walking && period == o.period && doubleSupport == o.doubleSupport &&
-           toeOffLead == o.toeOffLead;
+           toeOffLead == o.toeOffLead && rightFirst == o.rightFirst;
   }
 };
 

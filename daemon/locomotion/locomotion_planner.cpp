@@ -123,8 +123,35 @@ LocomotionCommand LocomotionPlanner::slewed(double t, const LocomotionCommand& o
   // the steps that take out what the body still carries.
   const bool commanded = std::abs(c.vx) > 1e-6 || std::abs(c.vy) > 1e-6 || std::abs(c.yawRate) > 1e-6;
   if (commanded) lastCommandedMotion_ = t;
-  c.walk = walk || commanded || (walking_ && t < lastCommandedMotion_ + settings_.stopDelay);
+  c.walk = walk || commanded || recovering_ ||
+           (walking_ && t < lastCommandedMotion_ + settings_.stopDelay);
   return c;
+}
+
+void LocomotionPlanner::updateRecovery(double t, bool operatorWalks, const gait::GaitState& state,
+                                       double yaw) {
+  if (operatorWalks) {  // the operator's walk takes over the steps
+    recovering_ = recoveryActive_ = false;
+    return;
+  }
+  const gait::SupportCheck support =
+      gait::supportCheck(state.contactPositions, state.com.head<2>(), state.comVelocity.head<2>(),
+                         state.externalForce.head<2>(), state.mass, swings_.omega());
+  // Only from standing: the last steps of a stop are the paper's footholds' to take (walking
+  // stays the paper's controller), and a recovery that is ending finishes its step first.
+  const bool standing = !schedule_.latestGait().walking && !schedule_.gaitAt(t).walking;
+  if (!recovering_ && recoveryActive_ && gait::needsStep(support, settings_.recovery)) {
+    recovering_ = true;  // still stepping after a recovery that was ending: on in the same order
+  } else if (!recovering_ && standing && gait::needsStep(support, settings_.recovery)) {
+    recovering_ = recoveryActive_ = true;
+    // The foot on the side the point left to first, at once (no walkStartDelay: the double
+    // support that begins the cycle shifts the weight).
+    recoveryGait_ = settings_.walkGait;
+    recoveryGait_.rightFirst = !gait::leftFootFirst(support.point, state.contactPositions, yaw);
+  } else if (recovering_ && gait::recovered(support, state.comVelocity.head<2>().norm(),
+                                            settings_.recovery)) {
+    recovering_ = false;
+  }
 }
 
 bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
@@ -133,7 +160,6 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
   // onto the first stance foot before the other one lifts.
   const bool starting = operatorCommand.walk && !schedule_.latestGait().walking;
   if (starting) walkStartsAt_ = t + settings_.walkStartDelay;
-  const LocomotionCommand command = slewed(t, operatorCommand);
   const Eigen::VectorXd x = measuredState(q, v);  // also leaves FK and composite inertias in data_
   const Eigen::Matrix3d R = model::quaternionToRotation<double>(q.segment<4>(3));
   const Eigen::Vector3d baseVelocity = R * v.head<3>();
@@ -146,6 +172,8 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
   gaitState.externalForce = externalForce_;
   for (int c = 0; c < kNumContacts; ++c)
     gaitState.contactPositions[c] = model::framePlacement(model_, data_, frames_[c]).p;
+  updateRecovery(t, operatorCommand.walk, gaitState, x[CentroidalLayout::kBaseZyx]);
+  const LocomotionCommand command = slewed(t, operatorCommand);
   const gait::PlanarPose start =
       referenceStart(t, x, command, feetHeading(gaitState.contactPositions));
   // Footholds: the hip at touch-down predicted from where the base is, moved towards the
@@ -162,8 +190,22 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
   if (lead.norm() > settings_.footholdLead) lead *= settings_.footholdLead / lead.norm();
   gaitState.base.position += lead;
 
-  // Gait: walking or standing, changed only where the schedule allows.
-  schedule_.setGait(command.walk ? settings_.walkGait : gait::Gait{}, starting ? walkStartsAt_ : t);
+  // Gait: walking or standing, changed only where the schedule allows. Walking on keeps the foot
+  // order in force (a recovery may have begun with the right foot), so the feet alternate.
+  gait::Gait gait;
+  if (recovering_) {
+    gait = recoveryGait_;
+  } else if (command.walk) {
+    gait = settings_.walkGait;
+    if (schedule_.latestGait().walking) gait.rightFirst = schedule_.latestGait().rightFirst;
+  }
+  schedule_.setGait(gait, starting ? walkStartsAt_ : t);
+  if (recoveryActive_ && !recovering_ && !schedule_.gaitAt(t).walking) recoveryActive_ = false;
+  // Recovery steps take the capture point's footholds whatever the profile's rule is: they are
+  // what the steps are for.
+  gait::SwingPlannerParameters swing = settings_.swing;
+  if (recoveryActive_ && !operatorCommand.walk) swing.rule = gait::FootholdRule::kCapturePoint;
+  swings_.setParameters(swing);
   const double horizon = settings_.sqp.nodes * settings_.sqp.dt;
   swings_.update(schedule_, gaitState, planarCommand(command), horizon, terrain_);
 
@@ -185,6 +227,7 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
   plan.schedule = schedule_;
   plan.swings = swings_;
   plan.walking = command.walk;
+  plan.recovering = recoveryActive_ && !operatorCommand.walk;
   for (int c = 0; c < kNumContacts; ++c) {
     const Eigen::Vector3d& p = gaitState.contactPositions[c];
     const gait::SwingTrajectory* swing = swings_.swingAt(c, t);
@@ -205,7 +248,8 @@ gait::PlanarPose LocomotionPlanner::referenceStart(double t, const Eigen::Vector
     // From where the base is, along its heading: when walking starts, and while the commanded
     // velocity changes — a lead gathered then (the robot cannot follow a velocity ramp exactly)
     // would be made up afterwards by walking faster than commanded.
-    if (!walking_ || accelerating_) {
+    // Recovering, too: the body goes where the push took it, the steps are what stop it.
+    if (!walking_ || accelerating_ || recovering_) {
       heading_ = yaw;
       position_ = measured;
     } else {
@@ -278,7 +322,7 @@ void LocomotionPlanner::fillReferences(double t, const gait::PlanarPose& start,
                                                                        : settings_.nominalJoints;
     // The push in the dynamics goes with the capture point's footholds: with the paper's, the
     // estimate's model errors (10-20 N walking at 1 m/s) made walking fall.
-    r.externalForce = settings_.swing.rule == gait::FootholdRule::kCapturePoint
+    r.externalForce = swings_.parameters().rule == gait::FootholdRule::kCapturePoint
                           ? externalForce_
                           : Eigen::Vector3d::Zero();
     r.u.setZero();

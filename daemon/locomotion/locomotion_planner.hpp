@@ -20,6 +20,10 @@
 //   roll and pitch from the pose command;
 //   momentum: m·v_des linear, I_zz·ω_des about z; joints: the nominal posture;
 //   forces: the weight shared by the stance points; joint velocities: zero.
+// Standing recovery steps: standing, when the capture point (with the push's offset) leaves the
+// support polygon, the planner steps on its own (gait/recovery.hpp) with zero commanded velocity,
+// the capture point's footholds and the base reference where the base is, until the point is
+// back inside and the body slow; Plan::recovering says so meanwhile.
 // Cost weights are given per physical quantity (CostWeights) and turned into Q and R here.
 #pragma once
 
@@ -29,6 +33,7 @@
 #include <vector>
 
 #include "gait/footholds.hpp"
+#include "gait/recovery.hpp"
 #include "gait/terrain_query.hpp"
 #include "locomotion/plan.hpp"
 #include "model/data.hpp"
@@ -76,6 +81,9 @@ struct LocomotionSettings {
   /// The commanded velocity starts slewing then too.
   double walkStartDelay;                ///< s
   gait::SwingPlannerParameters swing;
+  /// Standing: steps when a push carries the capture point out of the support polygon
+  /// (gait/recovery.hpp), with the capture point's footholds whatever gait.footholds says.
+  gait::RecoveryParameters recovery;
   CostWeights weights;
   mpc::ProblemSettings problem;         ///< weights are filled from `weights`
   mpc::SqpSettings sqp;
@@ -124,6 +132,8 @@ class LocomotionPlanner {
  private:
   /// The operator's command with its velocity slewed to time t (advances velocity_).
   LocomotionCommand slewed(double t, const LocomotionCommand& operatorCommand);
+  /// Standing recovery steps: begins or ends them from the state (gait/recovery.hpp).
+  void updateRecovery(double t, bool operatorWalks, const gait::GaitState& state, double yaw);
   /// The base reference at t (see the header comment); advances the commanded pose.
   gait::PlanarPose referenceStart(double t, const Eigen::VectorXd& x,
                                   const LocomotionCommand& command, double feetYaw);
@@ -150,6 +160,11 @@ class LocomotionPlanner {
   double walkStartsAt_ = 0.0;       ///< when the last start from standing takes its first step
   bool accelerating_ = false;       ///< velocity_ is still slewing towards the operator's
   double lastCommandedMotion_ = -1e9;  ///< last time velocity_ was not zero
+  /// Standing recovery (gait/recovery.hpp): recovering_ while steps are asked for,
+  /// recoveryActive_ until the schedule stands again after them.
+  bool recovering_ = false;
+  bool recoveryActive_ = false;
+  gait::Gait recoveryGait_;
   Eigen::Vector3d externalForce_ = Eigen::Vector3d::Zero();
 };
 

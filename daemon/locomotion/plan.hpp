@@ -32,6 +32,8 @@ struct Plan {
   gait::ContactSchedule schedule{gait::Gait{}, 0.0};
   gait::SwingPlanner swings{gait::SwingPlannerParameters{}, {}};
   bool walking = false;
+  /// Standing, the planner steps to recover from a push (gait/recovery.hpp).
+  bool recovering = false;
   /// Per contact point, the terrain height (world z) it stands on at t0, or, in a swing, the one
   /// it lands on: what the state estimator measures stance points against.
   std::array<double, kNumContacts> supportHeight{};

@@ -186,6 +186,6 @@ inline std::string defaultSocketPath() {
 }
 
 /// Mode names as status reports them.
-inline constexpr const char* kModes[] = {"passive", "stand-up", "stand", "walk", "damp"};
+inline constexpr const char* kModes[] = {"passive", "stand-up", "stand", "walk", "damp", "recover"};
 
 }  // namespace ballast::protocol

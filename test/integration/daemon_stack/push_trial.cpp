@@ -37,17 +37,17 @@ PushOutcome runPushTrial(const PushTrial& trial) {
   const double t0 = robot.t();
   PushOutcome out;
   char line[512];
+  const double pushAt = t0 + (walking ? trial.walkBefore + trial.phase * period : 1.0);
   auto fell = [&](const char* when) {
     const control::LoopStatus s = robot.status();
     std::snprintf(line, sizeof line, "fell %s at t %.2f s (%.2f s after the push began)%s%s", when,
-                  s.t, s.t - (t0 + trial.walkBefore + trial.phase * period),
-                  s.faults.size > 0 ? ": " : "", s.faults.size > 0 ? s.faults.fault[0].message : "");
+                  s.t, s.t - pushAt, s.faults.size > 0 ? ": " : "",
+                  s.faults.size > 0 ? s.faults.fault[0].message : "");
     out.message = line;
     out.survived = false;
     return out;
   };
   // Up to the push, tracing as we go.
-  const double pushAt = t0 + (walking ? trial.walkBefore + trial.phase * period : 1.0);
   while (robot.t() < pushAt - 1e-9) {
     if (!robot.run(std::min(0.02, pushAt - robot.t()))) return fell("before the push");
     if (trial.trace) traceLine(trial.trace, robot.status(), false);
