@@ -6,8 +6,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <tuple>
 
 #include "test/integration/daemon_stack/daemon_stack.hpp"
+#include "test/integration/daemon_stack/push_trial.hpp"
 
 namespace ballast::test {
 namespace {
@@ -81,6 +83,56 @@ TEST(PushSweep, OneRobotPerPhase) {
   }
   EXPECT_EQ(fell, 0);
 }
+
+/// Issue 13, standing: a push on the torso for 1 s in a horizontal direction (heading frame,
+/// degrees), a fresh robot standing 1 s before it. 60 N carries the capture point out of the
+/// support polygon: the robot leaves stand (recover), steps, and is back in stand within 5 s of
+/// the push's end, on its feet. 20 N it takes in place: it never leaves stand (touch-downs are
+/// not counted then: the estimated contacts of a heel the push unloads come and go).
+class StandingPush : public ::testing::TestWithParam<std::tuple<double, double>> {};
+
+TEST_P(StandingPush, RecoversAndStandsAgain) {
+  PushTrial trial;
+  trial.profile = kProfile;
+  trial.speed = 0.0;
+  trial.force = std::get<0>(GetParam());
+  trial.directionDeg = std::get<1>(GetParam());
+  trial.after = 5.0;
+  const PushOutcome out = runPushTrial(trial);
+  std::printf("standing, %.0f N at %.0f deg: %s\n", trial.force, trial.directionDeg,
+              out.message.c_str());
+  ASSERT_TRUE(out.survived) << out.message;
+  if (trial.force >= 60.0) {
+    EXPECT_TRUE(out.leftStand) << out.message;
+    EXPECT_GE(out.touchDowns, 1) << out.message;
+  } else {
+    EXPECT_FALSE(out.leftStand) << out.message;
+  }
+  // Back in stand for good within 5 s of the push's end.
+  EXPECT_GE(out.recoveryTime, 0.0) << out.message;
+  EXPECT_LE(out.recoveryTime, 5.0) << out.message;
+}
+
+std::string standingPushName(const ::testing::TestParamInfo<std::tuple<double, double>>& info) {
+  const char* direction[] = {"PlusX", "PlusY", "MinusX", "MinusY"};
+  return std::to_string(static_cast<int>(std::get<0>(info.param))) + "N" +
+         direction[static_cast<int>(std::get<1>(info.param)) / 90];
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Push, StandingPush,
+    ::testing::Values(std::make_tuple(20.0, 0.0), std::make_tuple(20.0, 90.0),
+                      std::make_tuple(20.0, 180.0), std::make_tuple(20.0, 270.0),
+                      std::make_tuple(60.0, 0.0), std::make_tuple(60.0, 180.0)),
+    standingPushName);
+
+// 60 N sideways still falls (issue 13, left to do): the recovery's first step, with the foot on
+// the side the point left to, has to shift the weight onto the other foot first, and the
+// pelvis rolls over the loaded foot (0.4 rad) before it can; 40 N is taken in place, 50 N
+// falls. Run with --gtest_also_run_disabled_tests.
+INSTANTIATE_TEST_SUITE_P(DISABLED_Sideways, StandingPush,
+                         ::testing::Values(std::make_tuple(60.0, 90.0), std::make_tuple(60.0, 270.0)),
+                         standingPushName);
 
 }  // namespace
 }  // namespace ballast::test
