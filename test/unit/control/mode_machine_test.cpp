@@ -85,6 +85,46 @@ TEST_F(Modes, WalkExpiresToStandAfterItsTtl) {
   EXPECT_EQ(m_.mode(), Mode::kStand);
 }
 
+TEST_F(Modes, RecoveryStepsLeaveStandAndComeBack) {
+  situation_.planner_available = true;
+  send(CommandKind::kStand, 0.0);
+  m_.update(5.0);
+  ASSERT_EQ(m_.mode(), Mode::kStand);
+  // The planner steps after a push: recover, and stand again when it stops.
+  m_.recovering(true, 5.1);
+  EXPECT_EQ(m_.mode(), Mode::kRecover);
+  EXPECT_STREQ(modeName(m_.mode()), "recover");
+  m_.update(9.0);  // nothing in recover expires
+  EXPECT_EQ(m_.mode(), Mode::kRecover);
+  EXPECT_EQ(send(CommandKind::kStand, 9.0), Refusal::kNone);  // it stands by itself afterwards
+  EXPECT_EQ(m_.mode(), Mode::kRecover);
+  m_.recovering(false, 9.5);
+  EXPECT_EQ(m_.mode(), Mode::kStand);
+  // A walk takes over from the steps, and the planner's flag leaves walk alone.
+  m_.recovering(true, 10.0);
+  OperatorCommand w;
+  w.vx = 0.3;
+  EXPECT_EQ(send(CommandKind::kWalk, 10.1, w), Refusal::kNone);
+  EXPECT_EQ(m_.mode(), Mode::kWalk);
+  m_.recovering(false, 10.2);
+  EXPECT_EQ(m_.mode(), Mode::kWalk);
+  m_.recovering(true, 10.3);
+  EXPECT_EQ(m_.mode(), Mode::kWalk);
+}
+
+TEST_F(Modes, OnlyAStandingRobotRecovers) {
+  m_.recovering(true, 0.1);  // passive
+  EXPECT_EQ(m_.mode(), Mode::kPassive);
+  send(CommandKind::kStand, 0.2);
+  m_.recovering(true, 0.3);  // standing up
+  EXPECT_EQ(m_.mode(), Mode::kStandUp);
+  m_.update(5.0);
+  m_.recovering(true, 5.1);
+  send(CommandKind::kEstop, 5.2);
+  m_.recovering(false, 5.3);  // damped stays damped
+  EXPECT_EQ(m_.mode(), Mode::kDamp);
+}
+
 TEST_F(Modes, WalkFromPassiveIsRefused) {
   situation_.planner_available = true;
   EXPECT_EQ(send(CommandKind::kWalk, 0.0), Refusal::kRefused);
