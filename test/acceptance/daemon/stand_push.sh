@@ -16,10 +16,9 @@ sim_time_passes 7
 ballast record stop >/dev/null || fail "record stop"
 healthy
 [ "$(field mode)" = stand ] || fail "not standing 7 s after the push began: $(field mode)"
-# From the recording (every tick): when the push began (the first frame with the estimated push,
-# less the observer's lag, is too late to time from: the recording starts with the push request,
-# one status poll before it lands), whether the robot left stand (mode 5, recover), how many
-# foot touch-downs, and the last frame not in stand.
+# From the recording (every tick, started just before the push request, so its first frame is
+# the push's start within a status poll): whether the robot left stand (mode 5, recover), how
+# many toe touch-downs, and the last frame not in stand.
 set -- $(awk -F '\t' '
   /^# t\t/ { for (i = 2; i <= NF; ++i) col[$i] = i; col["t"] = 1; next }
   /^#/ { next }
