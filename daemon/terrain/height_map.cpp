@@ -12,57 +12,77 @@ namespace ballast::terrain {
 namespace {
 
 /// The columns an occupied leaf covers, in whole cells of the tree's resolution (index n is
-/// [n·res, (n+1)·res)), and the z of its top face.
+/// [n·res, (n+1)·res)), and the z of the top face of its highest cell that is ground.
 struct Footprint {
   long x0, x1, y0, y1;  // [x0, x1) × [y0, y1)
   double top;
+  bool ground;  // some cell of it has its bottom within the rule's limit
 };
 
-Footprint footprint(const octomap::OcTree::leaf_iterator& it, double resolution) {
+Footprint footprint(const octomap::OcTree::leaf_iterator& it, double resolution,
+                    const GroundRule& rule) {
   const double half = 0.5 * it.getSize();
   const long cells = std::max(1L, std::lround(it.getSize() / resolution));
   const long x0 = std::lround((it.getX() - half) / resolution);
   const long y0 = std::lround((it.getY() - half) / resolution);
-  return {x0, x0 + cells, y0, y0 + cells, it.getZ() + half};
+  const double bottom = it.getZ() - half;
+  // The leaf's cells from its bottom up; the highest one whose bottom is within the limit
+  // (a small tolerance: a cell whose bottom is the limit itself, to rounding, counts).
+  const double above = (rule.limit() - bottom) / resolution + 1e-6;
+  Footprint f{x0, x0 + cells, y0, y0 + cells, 0.0, above >= 0.0};
+  if (f.ground) f.top = bottom + resolution * static_cast<double>(std::min(cells - 1, static_cast<long>(above)) + 1);
+  return f;
 }
 
 }  // namespace
 
 HeightMap::HeightMap(double ground) : ground_(ground) {}
 
-HeightMap HeightMap::fromOcTree(const octomap::OcTree& tree, double ground,
-                                const std::string& path) {
+HeightMap HeightMap::fromOcTree(const octomap::OcTree& tree, double ground, const std::string& path,
+                                const GroundRule& rule) {
   const auto fail = [&](const std::string& why) {
     return MapError(path.empty() ? why : "map " + path + ": " + why);
   };
   const double res = tree.getResolution();
+  if (!(res >= 1e-3 && res <= 1.0))
+    throw fail("cells of " + std::to_string(res) + " m: a terrain map's cells are 1 mm to 1 m");
   long x0 = std::numeric_limits<long>::max(), y0 = x0;
   long x1 = std::numeric_limits<long>::min(), y1 = x1;
   std::size_t occupied = 0;
   for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
     if (!tree.isNodeOccupied(*it)) continue;
-    const Footprint f = footprint(it, res);
+    ++occupied;
+    const Footprint f = footprint(it, res, rule);
+    if (!f.ground) continue;
     x0 = std::min(x0, f.x0), x1 = std::max(x1, f.x1);
     y0 = std::min(y0, f.y0), y1 = std::max(y1, f.y1);
-    ++occupied;
   }
   if (occupied == 0) throw fail("the map has no occupied cells");
   HeightMap map(ground);
+  map.rule_ = rule;
+  if (x1 <= x0) return map;  // all of it above the clearance: no ground known anywhere
   map.nx_ = static_cast<std::size_t>(x1 - x0);
   map.ny_ = static_cast<std::size_t>(y1 - y0);
-  if (map.nx_ > kMaxColumns / map.ny_)
-    throw fail("the map covers " + std::to_string(map.nx_) + " × " + std::to_string(map.ny_) +
-               " cells: too large for a height grid (at most " + std::to_string(kMaxColumns) +
-               " columns)");
+  if (map.nx_ > kMaxColumns / map.ny_) {
+    const auto metres = [&](std::size_t n) {
+      return std::to_string(static_cast<long>(std::lround(static_cast<double>(n) * res)));
+    };
+    throw fail("the map's ground covers " + metres(map.nx_) + " m × " + metres(map.ny_) + " m (" +
+               std::to_string(map.nx_) + " × " + std::to_string(map.ny_) + " cells of " +
+               std::to_string(res) + " m): too large for a height grid (at most " +
+               std::to_string(kMaxColumns) + " columns)");
+  }
   map.resolution_ = res;
   map.inverseResolution_ = 1.0 / res;
   map.xMin_ = static_cast<double>(x0) * res;
   map.yMin_ = static_cast<double>(y0) * res;
   constexpr double kUnknown = -std::numeric_limits<double>::infinity();
   map.cells_.assign(map.nx_ * map.ny_, kUnknown);
+  map.known_.assign(map.nx_ * map.ny_, 0);
   for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
     if (!tree.isNodeOccupied(*it)) continue;
-    const Footprint f = footprint(it, res);
+    const Footprint f = footprint(it, res, rule);
+    if (!f.ground) continue;
     for (long y = f.y0; y < f.y1; ++y) {
       double* row = map.cells_.data() + static_cast<std::size_t>(y - y0) * map.nx_;
       for (long x = f.x0; x < f.x1; ++x) {
@@ -71,17 +91,19 @@ HeightMap HeightMap::fromOcTree(const octomap::OcTree& tree, double ground,
       }
     }
   }
-  for (double& top : map.cells_) {
-    if (top == kUnknown)
-      top = ground;
-    else
-      ++map.known_;
+  for (std::size_t i = 0; i < map.cells_.size(); ++i) {
+    if (map.cells_[i] == kUnknown) {
+      map.cells_[i] = ground;
+    } else {
+      map.known_[i] = 1;
+      ++map.knownCount_;
+    }
   }
   return map;
 }
 
-HeightMap HeightMap::fromFile(const std::string& path, double ground) {
-  return fromOcTree(*readOcTree(path), ground, path);
+HeightMap HeightMap::fromFile(const std::string& path, double ground, const GroundRule& rule) {
+  return fromOcTree(*readOcTree(path), ground, path, rule);
 }
 
 Slope HeightMap::slope(double x, double y) const {

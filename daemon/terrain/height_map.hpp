@@ -1,11 +1,18 @@
-// The terrain as the planner sees it: a 2.5-D height grid made once from an OctoMap occupancy
-// tree, answering "how high is the ground under (x, y)" in O(1) without allocating.
+// The terrain as the planner sees it: a 2.5-D height grid made from an OctoMap occupancy tree,
+// answering "how high is the ground under (x, y)" and "is it known" in O(1) without allocating.
 //
 // What it computes: the grid has the tree's resolution and is aligned with its cells (OctoMap
-// cell n covers [n·res, (n+1)·res) on each axis). Each column holds the top face of its highest
-// occupied cell (cell centre z + res/2; a pruned leaf covers all the columns under it). Columns
-// with no occupied cell — unknown or free space, inside the map or off it — read as the ground
-// default (terrain.ground_height): the floor the robot stands on when nothing says otherwise.
+// cell n covers [n·res, (n+1)·res) on each axis). A column's height is the surface a foot could
+// stand on: the top face of its highest occupied cell whose bottom is at most
+// GroundRule::clearance above GroundRule::reference (the feet's height). Higher occupied cells —
+// ceilings, table tops, overhangs — are not ground: a corridor's ceiling at 2.6 m leaves the
+// floor under it at 0. A solid thing taller than the clearance (a wall, a high box) reads as
+// rising to the clearance: an edge the footholds avoid, never a floor under it that nobody saw.
+// Cells are counted at the tree's resolution; a pruned leaf covers all the cells inside it.
+//
+// Columns with no such occupied cell are unknown: nothing was observed there (or only free
+// space). They read as the ground default (terrain.ground_height), as does everything off the
+// map, and known(x, y) is false there: the footholds keep off them where they can.
 //
 // Queries are nearest-cell, not interpolated: height(x, y) is the value of the column whose
 // cell contains (x, y). A step stays a step, its edge where the map has it (within one cell),
@@ -14,13 +21,16 @@
 // plane's gradient on smooth ground, rise / (2·res) across a step edge (an edge detector as much
 // as a slope).
 //
-// Frame: world, z up; metres. Building allocates and walks the whole tree (milliseconds for a
-// lab map): do it off the control and planner threads and hand the result over (control binds
-// it for the planner). A built HeightMap is immutable; share it as shared_ptr<const HeightMap>.
+// Frame: world, z up; metres. Building from a tree allocates and walks the whole tree
+// (milliseconds for a lab map): do it off the control and planner threads and hand the result
+// over (control binds it for the planner). A HeightMap handed to the planner is immutable; share
+// it as shared_ptr<const HeightMap>. LiveMap (live_map.hpp) keeps a mutable one and updates the
+// columns a scan changed.
 #pragma once
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -36,27 +46,41 @@ struct Slope {
   double dzdx = 0.0, dzdy = 0.0;
 };
 
+/// Which occupied cells are ground: those whose bottom is at most `clearance` above
+/// `reference` (world z, m). The reference is where the feet are; the clearance is more than
+/// any step the robot takes and less than anything it could walk under (a table, 0.7 m).
+struct GroundRule {
+  double reference = 0.0;  ///< m, world z
+  double clearance = 0.5;  ///< m
+  double limit() const { return reference + clearance; }
+};
+
 class HeightMap {
  public:
-  /// Grids larger than this many columns are refused (8 m × 4 m at 2 cm is 80 000).
-  static constexpr std::size_t kMaxColumns = std::size_t{1} << 26;
+  /// Grids larger than this many columns are refused: 4 M columns (32 MB of heights) is a
+  /// 160 m × 160 m building at 8 cm, 80 m × 80 m at 4 cm.
+  static constexpr std::size_t kMaxColumns = std::size_t{1} << 22;
 
-  /// A flat floor at `ground` everywhere (no map).
+  /// A flat floor at `ground` everywhere (no map); no column is known.
   explicit HeightMap(double ground = 0.0);
-  /// The grid of `tree`. Throws MapError when the tree has no occupied cell or would make a
-  /// grid of more than kMaxColumns columns; the message names `path` (the tree's file) if given.
+  /// The grid of `tree` under `rule`. Throws MapError when the tree has no occupied cell, when
+  /// its resolution is not a usable cell size, or when it would make a grid of more than
+  /// kMaxColumns columns; the message names `path` (the tree's file) if given.
   static HeightMap fromOcTree(const octomap::OcTree& tree, double ground,
-                              const std::string& path = "");
+                              const std::string& path = "", const GroundRule& rule = {});
   /// readOcTree(path) then fromOcTree; every MapError names the file ("map <path>: ...").
-  static HeightMap fromFile(const std::string& path, double ground);
+  static HeightMap fromFile(const std::string& path, double ground, const GroundRule& rule = {});
 
-  /// Height (world z, m) of the terrain under (x, y); the ground default off the map.
+  /// Height (world z, m) of the terrain under (x, y); the ground default off the map and in
+  /// unknown columns.
   double height(double x, double y) const {
-    const double fx = (x - xMin_) * inverseResolution_, fy = (y - yMin_) * inverseResolution_;
-    // Written so that NaN coordinates fall off the map too.
-    if (!(fx >= 0.0 && fx < static_cast<double>(nx_) && fy >= 0.0 && fy < static_cast<double>(ny_)))
-      return ground_;
-    return cells_[static_cast<std::size_t>(fy) * nx_ + static_cast<std::size_t>(fx)];
+    const std::size_t i = index(x, y);
+    return i == kOff ? ground_ : cells_[i];
+  }
+  /// Whether the column under (x, y) was observed to have ground (false off the map).
+  bool known(double x, double y) const {
+    const std::size_t i = index(x, y);
+    return i != kOff && known_[i] != 0;
   }
   /// Gradient of the surface at (x, y) (see the header comment); 0 on a flat map.
   Slope slope(double x, double y) const;
@@ -64,21 +88,34 @@ class HeightMap {
   std::array<double, 3> normal(double x, double y) const;
 
   double ground() const { return ground_; }
+  const GroundRule& rule() const { return rule_; }
   double resolution() const { return resolution_; }
   /// Columns along x and y (0 for a flat floor); the grid covers [xMin, xMin + nx·res) × ...
   std::size_t columnsX() const { return nx_; }
   std::size_t columnsY() const { return ny_; }
   double xMin() const { return xMin_; }
   double yMin() const { return yMin_; }
-  /// Columns with an occupied cell (the rest read as the ground default).
-  std::size_t knownColumns() const { return known_; }
+  /// Columns with ground (the rest read as the ground default).
+  std::size_t knownColumns() const { return knownCount_; }
 
  private:
+  friend class LiveMap;  // keeps a mutable grid and updates it column by column
+  static constexpr std::size_t kOff = static_cast<std::size_t>(-1);
+  std::size_t index(double x, double y) const {
+    const double fx = (x - xMin_) * inverseResolution_, fy = (y - yMin_) * inverseResolution_;
+    // Written so that NaN coordinates fall off the map too.
+    if (!(fx >= 0.0 && fx < static_cast<double>(nx_) && fy >= 0.0 && fy < static_cast<double>(ny_)))
+      return kOff;
+    return static_cast<std::size_t>(fy) * nx_ + static_cast<std::size_t>(fx);
+  }
+
   double ground_ = 0.0;
+  GroundRule rule_;
   double resolution_ = 0.0, inverseResolution_ = 0.0;
   double xMin_ = 0.0, yMin_ = 0.0;
-  std::size_t nx_ = 0, ny_ = 0, known_ = 0;
-  std::vector<double> cells_;  // row-major: ny rows of nx columns
+  std::size_t nx_ = 0, ny_ = 0, knownCount_ = 0;
+  std::vector<double> cells_;         // row-major: ny rows of nx columns
+  std::vector<std::uint8_t> known_;   // the same layout: 1 where the column has ground
 };
 
 }  // namespace ballast::terrain

@@ -7,7 +7,9 @@
 #include <octomap/OcTree.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 
 #include "terrain/height_map.hpp"
@@ -110,6 +112,10 @@ TEST(HeightMap, TheGroundDefaultOffTheMapAndWhereNothingIsKnown) {
   EXPECT_NEAR(blocks.height(0.99, 0.2), 0.25, 1e-6);
   EXPECT_EQ(blocks.height(0.5, 0.2), -0.4);
   EXPECT_EQ(blocks.height(0.53, 0.01), -0.4);
+  EXPECT_TRUE(blocks.known(0.01, 0.2));
+  EXPECT_FALSE(blocks.known(0.5, 0.2));   // unknown inside the grid
+  EXPECT_FALSE(blocks.known(0.53, 0.01));  // free only: observed, but no ground seen
+  EXPECT_FALSE(blocks.known(5.0, 0.2));   // off the grid
 
   const HeightMap flat(0.2);
   EXPECT_EQ(flat.height(3.0, -4.0), 0.2);
@@ -183,7 +189,7 @@ TEST(MapFiles, EveryFailureNamesTheFileAndTheReason) {
   octomap::ColorOcTree color(0.1);
   color.updateNode(octomap::point3d(0, 0, 0), true);
   ASSERT_TRUE(color.write(path("color.ot")));
-  EXPECT_EQ(reason("color.ot"), "not an OctoMap OcTree (.ot) file");
+  EXPECT_EQ(reason("color.ot"), "not an OctoMap OcTree (.ot) file (it holds a ColorOcTree)");
   std::ofstream(path("map.png")) << "x";
   EXPECT_EQ(reason("map.png"), "expected an OctoMap file (.bt or .ot)");
   ASSERT_TRUE(octomap::OcTree(0.1).writeBinaryConst(path("empty.bt")));
@@ -214,6 +220,119 @@ TEST(MapFiles, BinaryAndFullFilesOfOneMapGiveTheSameHeights) {
     EXPECT_EQ(bt.height(x, 0.0), direct.height(x, 0.0)) << x;
     EXPECT_EQ(ot.height(x, 0.0), direct.height(x, 0.0)) << x;
   }
+}
+
+/// A room: a floor (top at z = 0) over [-2, 2] × [-1.5, 1.5] and a ceiling slab 10 cm thick
+/// from 2.5 m, over all of it but a strip at x > 1.5 (a doorway's height unseen), at `res`.
+std::unique_ptr<octomap::OcTree> room(double res) {
+  auto tree = std::make_unique<octomap::OcTree>(res);
+  for (double x = -2 + res / 2; x < 2; x += res)
+    for (double y = -1.5 + res / 2; y < 1.5; y += res) {
+      tree->updateNode(octomap::point3d(x, y, -res / 2), true);
+      if (x < 1.5)
+        for (double z = 2.5 + res / 2; z < 2.6; z += res) tree->updateNode(octomap::point3d(x, y, z), true);
+    }
+  tree->updateInnerOccupancy();
+  tree->prune();
+  return tree;
+}
+
+TEST(GroundRule, ACeilingIsNotGroundTheFloorUnderItIs) {
+  for (double res : {0.02, 0.05, 0.08}) {
+    const auto tree = room(res);
+    const HeightMap map = HeightMap::fromOcTree(*tree, 0.3);  // reference 0, clearance 0.5
+    EXPECT_EQ(map.knownColumns(), map.columnsX() * map.columnsY()) << res;
+    for (double x = -1.99; x < 2; x += 0.1)
+      for (double y = -1.49; y < 1.5; y += 0.1) {
+        ASSERT_NEAR(map.height(x, y), 0.0, 1e-9) << res << ": " << x << ", " << y;
+        ASSERT_TRUE(map.known(x, y));
+      }
+  }
+  // Without the floor the ceiling is all there is, and it is still not ground: unknown.
+  octomap::OcTree ceiling(0.05);
+  for (double x = 0.025; x < 1; x += 0.05) ceiling.updateNode(octomap::point3d(x, 0.025, 2.525), true);
+  const HeightMap none = HeightMap::fromOcTree(ceiling, 0.3);
+  EXPECT_EQ(none.knownColumns(), 0u);
+  EXPECT_EQ(none.height(0.5, 0.0), 0.3);
+  EXPECT_FALSE(none.known(0.5, 0.0));
+}
+
+TEST(GroundRule, ATableIsNotGroundABoxIsAndAWallIsAnEdge) {
+  const double res = 0.05;
+  octomap::OcTree tree(res);
+  for (double x = res / 2; x < 2; x += res)
+    for (double y = res / 2; y < 0.5; y += res) {
+      tree.updateNode(octomap::point3d(x, y, -res / 2), true);                 // floor
+      if (x > 0.5 && x < 1.0) tree.updateNode(octomap::point3d(x, y, 0.725), true);  // table top
+      if (x > 1.0 && x < 1.2)                                                  // a 20 cm box
+        for (double z = res / 2; z < 0.2; z += res) tree.updateNode(octomap::point3d(x, y, z), true);
+      if (x > 1.5 && x < 1.6)                                                  // a 2 m wall
+        for (double z = res / 2; z < 2.0; z += res) tree.updateNode(octomap::point3d(x, y, z), true);
+    }
+  const HeightMap map = HeightMap::fromOcTree(tree, 0.0);
+  EXPECT_NEAR(map.height(0.3, 0.2), 0.0, 1e-9);
+  EXPECT_NEAR(map.height(0.7, 0.2), 0.0, 1e-9);   // under the table
+  EXPECT_NEAR(map.height(1.1, 0.2), 0.2, 1e-9);   // on the box
+  // The wall: up to the cell whose bottom is the limit (0.5 m): an edge of 0.55 m.
+  EXPECT_NEAR(map.height(1.55, 0.2), 0.55, 1e-9);
+  // Feet 15 cm up (on a step), the table is still not ground.
+  const HeightMap high = HeightMap::fromOcTree(tree, 0.0, "", GroundRule{0.15, 0.5});
+  EXPECT_NEAR(high.height(0.7, 0.2), 0.0, 1e-9);
+  EXPECT_NEAR(high.height(1.55, 0.2), 0.7, 1e-9);
+  // Feet at 0.3 m: the table top (bottom 0.7) is within 0.5 m and is ground.
+  const HeightMap higher = HeightMap::fromOcTree(tree, 0.0, "", GroundRule{0.3, 0.5});
+  EXPECT_NEAR(higher.height(0.7, 0.2), 0.75, 1e-9);
+}
+
+TEST(GroundRule, APrunedBlockCountsItsCellsUpToTheLimit) {
+  // A solid cube 1.28 m high of 2 cm cells prunes into large leaves: the ground is the cell
+  // holding the limit, as it would be cell by cell.
+  octomap::OcTree tree(0.02);
+  for (double x = 0.01; x < 1.28; x += 0.02)
+    for (double y = 0.01; y < 1.28; y += 0.02)
+      for (double z = 0.01; z < 1.28; z += 0.02) tree.updateNode(octomap::point3d(x, y, z), true);
+  tree.updateInnerOccupancy();
+  tree.prune();
+  EXPECT_LT(tree.getNumLeafNodes(), 100u);
+  const HeightMap map = HeightMap::fromOcTree(tree, 0.0, "", GroundRule{0.0, 0.5});
+  EXPECT_NEAR(map.height(0.5, 0.5), 0.52, 1e-9);
+  const HeightMap all = HeightMap::fromOcTree(tree, 0.0, "", GroundRule{0.0, 5.0});
+  EXPECT_NEAR(all.height(0.5, 0.5), 1.28, 1e-9);
+}
+
+TEST(MapFiles, TruncatedCorruptAndEnormousMapsAreRefusedByName) {
+  const auto tree = room(0.05);
+  std::string error;
+  ASSERT_TRUE(maps::writeTerrainMap(*tree, path("room.bt"), error)) << error;
+  ASSERT_TRUE(maps::writeTerrainMap(*tree, path("room.ot"), error)) << error;
+  for (const std::string name : {"room.bt", "room.ot"}) {
+    std::ifstream in(path(name), std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    ASSERT_GT(bytes.size(), 200u);
+    for (const double keep : {0.5, 0.9}) {
+      const std::string cut = "cut-" + std::to_string(static_cast<int>(keep * 10)) + name;
+      std::ofstream(path(cut), std::ios::binary) << bytes.substr(0, static_cast<std::size_t>(bytes.size() * keep));
+      EXPECT_EQ(reason(cut).rfind("the file is cut short or corrupt", 0), 0u) << cut << ": " << reason(cut);
+    }
+    // Only a header.
+    const std::string head = "head-" + name;
+    std::ofstream(path(head), std::ios::binary) << bytes.substr(0, bytes.find("data\n"));
+    EXPECT_NE(reason(head).find("no data in it"), std::string::npos) << reason(head);
+  }
+  // A .ot file named .bt and the other way round: the wrong kind, by name.
+  std::filesystem::copy_file(path("room.ot"), path("ot-as.bt"), std::filesystem::copy_options::overwrite_existing);
+  EXPECT_EQ(reason("ot-as.bt"), "not a readable OctoMap binary (.bt) file");
+  std::filesystem::copy_file(path("room.bt"), path("bt-as.ot"), std::filesystem::copy_options::overwrite_existing);
+  EXPECT_EQ(reason("bt-as.ot"), "not an OctoMap OcTree (.ot) file");
+
+  // Two cells 600 m apart at 2 cm: 30 000 × 30 000 columns.
+  octomap::OcTree huge(0.02);
+  huge.updateNode(octomap::point3d(-300, -300, 0.01f), true);
+  huge.updateNode(octomap::point3d(300, 300, 0.01f), true);
+  ASSERT_TRUE(maps::writeTerrainMap(huge, path("huge.bt"), error)) << error;
+  const std::string why = reason("huge.bt");
+  EXPECT_EQ(why.rfind("the map's ground covers 600 m × 600 m", 0), 0u) << why;
+  EXPECT_NE(why.find("too large for a height grid"), std::string::npos) << why;
 }
 
 }  // namespace
