@@ -2,6 +2,7 @@
 // the planner. See ballast-mkmap.1 and README.md in this directory.
 #include <CLI/CLI.hpp>
 
+#include <cmath>
 #include <cstdio>
 
 #include "terrain_maps.hpp"
@@ -41,6 +42,10 @@ int main(int argc, char** argv) {
   app.add_option("--patch", patch, "rough: patch side, m")->capture_default_str()
       ->check(CLI::Range(0.005, 10.0));
   app.add_option("--seed", seed, "rough: random seed")->capture_default_str();
+  double ceiling = 0.0;
+  app.add_option("--ceiling", ceiling,
+                 "any shape: a ceiling slab 10 cm thick from this height over the floor, m (0: none)")
+      ->capture_default_str()->check(CLI::Range(0.0, 100.0));
   CLI11_PARSE(app, argc, argv);
 
   const auto endsWith = [&](const char* tail) {
@@ -63,6 +68,16 @@ int main(int argc, char** argv) {
   if (shape == "rough") terrain = rough(amplitude, patch, seed);
 
   const auto tree = makeTerrainMap(terrain, resolution, extent);
+  if (ceiling > 0.0) {  // cells whose centres lie in [ceiling, ceiling + 0.1)
+    for (double x = extent.xMin + resolution / 2; x < extent.xMax; x += resolution)
+      for (double y = extent.yMin + resolution / 2; y < extent.yMax; y += resolution)
+        for (double z = std::ceil(ceiling / resolution - 0.5) * resolution + resolution / 2;
+             z < ceiling + 0.1; z += resolution)
+          tree->updateNode(octomap::point3d(static_cast<float>(x), static_cast<float>(y),
+                                            static_cast<float>(z)), true, true);
+    tree->updateInnerOccupancy();
+    tree->prune();
+  }
   std::string error;
   if (!writeTerrainMap(*tree, output, error)) {
     std::fprintf(stderr, "ballast-mkmap: %s\n", error.c_str());

@@ -18,7 +18,7 @@ bool TerrainMap::load(const std::string& path, double ground, std::string& error
   try {
     tree = terrain::readOcTree(path);
     heights = std::make_shared<const terrain::HeightMap>(
-        terrain::HeightMap::fromOcTree(*tree, ground, path));
+        terrain::HeightMap::fromOcTree(*tree, ground, path, terrain::GroundRule{ground}));
   } catch (const terrain::MapError& e) {
     error = e.what();
     return false;
@@ -42,7 +42,8 @@ nlohmann::json TerrainMap::info() const {
           {"heights",
            {{"columns", {heights_->columnsX(), heights_->columnsY()}},
             {"known", heights_->knownColumns()},
-            {"ground", heights_->ground()}}}};
+            {"ground", heights_->ground()},
+            {"clearance", heights_->rule().clearance}}}};
 }
 
 }  // namespace ballast::server

@@ -3,7 +3,9 @@
 // builds the planner's height grid (terrain::HeightMap) from the same tree, here on the IO
 // thread, so the server hands the planner a finished map (MpcPlanner::setTerrain). A file that
 // is missing, of another kind, corrupt or empty is refused with its name and the reason, and
-// the map in use stays.
+// the map in use stays. Ground is what a foot can stand on (terrain::GroundRule): occupied
+// cells more than the clearance above the floor's height (terrain.ground_height) — a ceiling,
+// a table — are not.
 #pragma once
 
 #include <memory>
@@ -35,7 +37,7 @@ class TerrainMap {
   /// The height grid for the planner (never null; flat at the ground without a map).
   std::shared_ptr<const terrain::HeightMap> heights() const { return heights_; }
   /// {"path", "resolution", "leaves", "min": [x,y,z], "max": [x,y,z], "heights": {"columns":
-  /// [nx, ny], "known", "ground"}}, or null without a map.
+  /// [nx, ny], "known", "ground", "clearance"}}, or null without a map.
   nlohmann::json info() const;
 
  private:

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 #include <limits>
 
 #include <octomap/OcTree.h>
@@ -34,6 +36,13 @@ Footprint footprint(const octomap::OcTree::leaf_iterator& it, double resolution,
   return f;
 }
 
+/// A length for people: "0.2", "0.05", not "0.200000".
+std::string metresText(double m) {
+  std::ostringstream out;
+  out << std::setprecision(4) << m;
+  return out.str();
+}
+
 }  // namespace
 
 HeightMap::HeightMap(double ground) : ground_(ground) {}
@@ -45,7 +54,7 @@ HeightMap HeightMap::fromOcTree(const octomap::OcTree& tree, double ground, cons
   };
   const double res = tree.getResolution();
   if (!(res >= 1e-3 && res <= 1.0))
-    throw fail("cells of " + std::to_string(res) + " m: a terrain map's cells are 1 mm to 1 m");
+    throw fail("cells of " + metresText(res) + " m: a terrain map's cells are 1 mm to 1 m");
   long x0 = std::numeric_limits<long>::max(), y0 = x0;
   long x1 = std::numeric_limits<long>::min(), y1 = x1;
   std::size_t occupied = 0;
@@ -69,7 +78,7 @@ HeightMap HeightMap::fromOcTree(const octomap::OcTree& tree, double ground, cons
     };
     throw fail("the map's ground covers " + metres(map.nx_) + " m × " + metres(map.ny_) + " m (" +
                std::to_string(map.nx_) + " × " + std::to_string(map.ny_) + " cells of " +
-               std::to_string(res) + " m): too large for a height grid (at most " +
+               metresText(res) + " m): too large for a height grid (at most " +
                std::to_string(kMaxColumns) + " columns)");
   }
   map.resolution_ = res;
