@@ -33,6 +33,11 @@ class MapTerrain final : public gait::TerrainQuery {
   /// Planner thread: the map in use (until the next refresh()).
   const terrain::HeightMap& map() const { return *current_; }
   double height(double x, double y) const override { return current_->height(x, y); }
+  /// A map's unknown columns are not known; without a map (a flat floor, no columns at all)
+  /// the floor is the ground everywhere, as the profile says.
+  bool known(double x, double y) const override {
+    return current_->columnsX() == 0 || current_->known(x, y);
+  }
 
  private:
   std::shared_ptr<const terrain::HeightMap> published_;  // atomic_load / atomic_store only

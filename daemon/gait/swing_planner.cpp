@@ -77,6 +77,20 @@ void SwingPlanner::planSteps(const ContactSchedule& schedule, const GaitState& s
   captureFootholds(in, steps_.data(), numSteps_);
 }
 
+Eigen::Vector3d SwingPlanner::footOffset(int contact, const PlanarPose& base,
+                                         const GaitState& state, const Eigen::Vector3d& vDesired,
+                                         double yawRate, double stance,
+                                         const TerrainQuery& terrain) const {
+  if (!params_.search.enabled) return Eigen::Vector3d::Zero();
+  // The foot's toe and heel by the paper's rule, the same for either point's swing.
+  const int toe = contact & ~1, heel = toe + 1;  // kLeftToe, kLeftHeel / kRightToe, kRightHeel
+  const auto paper = [&](int c) {
+    return raibertFoothold(base, nominalOffsets_[c], state.comVelocity, vDesired, yawRate, stance,
+                           params_.foothold, terrain);
+  };
+  return footholdOffset(paper(toe), paper(heel), terrain, params_.search);
+}
+
 void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& state,
                           const VelocityCommand& command, double horizon,
                           const TerrainQuery& terrain) {
@@ -141,6 +155,7 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
         // fell at 2 of 8 stop phases from 1.0 m/s and 4 of 8 from 1.2).
         Eigen::Vector3d p = raibertFoothold(base, nominalOffsets_[c], state.comVelocity, vDesired,
                                             command.yawRate, stance, params_.foothold, terrain);
+        p += footOffset(c, base, state, vDesired, command.yawRate, stance, terrain);
         p = keepFeetApart(c, p, base.yaw, state);
         p.z() = terrain.height(p.x(), p.y());
         s.touchDownPosition = p;

@@ -16,12 +16,15 @@
 // are kept at least `minFeetDistance` left of the right foot's (and vice versa) in the heading
 // frame: the paper's foot-collision constraint (eq. collsion), enforced where footholds are
 // chosen.
+// Under the paper's rule, where the ground under its foothold is not good (unknown, an edge,
+// steep), the foot moves to the nearest good place within a small window (foothold_search.hpp).
 #pragma once
 
 #include <array>
 
 #include "gait/contact.hpp"
 #include "gait/contact_schedule.hpp"
+#include "gait/foothold_search.hpp"
 #include "gait/footholds.hpp"
 #include "gait/step_adjustment.hpp"
 #include "gait/swing_trajectory.hpp"
@@ -43,6 +46,7 @@ struct SwingPlannerParameters {
   FootholdRule rule;            ///< gait.footholds
   StepLimits limits;            ///< kCapturePoint (minWidth: minFeetDistance)
   double comHeight = 0.8;       ///< kCapturePoint: the pendulum's height, m (ω = sqrt(g/h)), set by the planner
+  FootholdSearchParameters search;  ///< kPaper: footholds off unknown cells, edges and steep cells
 };
 
 /// What the planner needs to know about the robot now.
@@ -82,6 +86,10 @@ class SwingPlanner {
   void setParameters(const SwingPlannerParameters& p) { params_ = p; }
 
  private:
+  /// footholdOffset() of the foot `contact` belongs to, at its swing's touch-down.
+  Eigen::Vector3d footOffset(int contact, const PlanarPose& base, const GaitState& state,
+                             const Eigen::Vector3d& vDesired, double yawRate, double stance,
+                             const TerrainQuery& terrain) const;
   Eigen::Vector3d keepFeetApart(int contact, const Eigen::Vector3d& foothold, double yaw,
                                 const GaitState& state) const;
   /// Capture point rule: steps_[0..numSteps_) and their footholds for this update.

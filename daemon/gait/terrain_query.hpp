@@ -1,4 +1,5 @@
-// What the gait needs to know about the ground: its height under a point. The terrain module
+// What the gait needs to know about the ground: its height under a point, and whether it was
+// observed there. The terrain module
 // (OctoMap) provides the real one; control binds it here, since gait does not include terrain.
 #pragma once
 
@@ -12,6 +13,9 @@ class TerrainQuery {
   virtual ~TerrainQuery() = default;
   /// Height (world z) of the terrain surface under (x, y).
   virtual double height(double x, double y) const = 0;
+  /// Whether the ground under (x, y) was observed (a map's unknown columns answer false: their
+  /// height is a default, not ground anyone saw). Without a map everything is known.
+  virtual bool known(double /*x*/, double /*y*/) const { return true; }
   /// Highest terrain along the segment (x0, y0)–(x1, y1), sampled every `step` metres.
   virtual double maxHeightAlong(double x0, double y0, double x1, double y1,
                                 double step = 0.02) const {

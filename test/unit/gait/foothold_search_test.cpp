@@ -1,0 +1,82 @@
+// Footholds on terrain that is not good everywhere: the paper's foothold where toe and heel
+// stand on good ground, the nearest good placement in the window where they would straddle a
+// step edge or touch unknown columns, and the paper's foothold again when nothing is good.
+#include <gtest/gtest.h>
+
+#include "gait/foothold_search.hpp"
+#include "test/unit/allocation_counter.hpp"
+
+namespace ballast::gait {
+namespace {
+
+/// A 15 cm stage from x = 1.5 m, unknown columns in x ∈ [0.4, 0.5), a 30° ramp from x = 3 m.
+class TestTerrain final : public TerrainQuery {
+ public:
+  double height(double x, double) const override {
+    if (x >= 3.0) return 0.15 + 0.577 * (x - 3.0);
+    return x >= 1.5 ? 0.15 : 0.0;
+  }
+  bool known(double x, double y) const override {
+    return !(x >= 0.4 && x < 0.5) && !(unknownEverywhere && y < 5.0);
+  }
+  bool unknownEverywhere = false;
+};
+
+Eigen::Vector3d at(double x, double y = 0.1) { return {x, y, 0.0}; }
+
+TEST(FootholdSearch, ThePapersFootholdWhereTheGroundIsGood) {
+  const TestTerrain t;
+  const FootholdSearchParameters s;
+  EXPECT_EQ(footholdOffset(at(1.0), at(0.8), t, s), Eigen::Vector3d::Zero());  // floor
+  EXPECT_EQ(footholdOffset(at(1.8), at(1.6), t, s), Eigen::Vector3d::Zero());  // on the stage
+  EXPECT_EQ(footholdOffset(at(1.46), at(1.26), t, s), Eigen::Vector3d::Zero());  // toe by the edge
+}
+
+TEST(FootholdSearch, AFootStraddlingTheEdgeMovesBackOffIt) {
+  const TestTerrain t;
+  const FootholdSearchParameters s;
+  const Eigen::Vector3d toe = at(1.51), heel = at(1.31);
+  ASSERT_FALSE(goodPlacement(toe, heel, 0, 0, t, s));
+  const Eigen::Vector3d d = footholdOffset(toe, heel, t, s);
+  EXPECT_NEAR(d.x(), -0.06, 1e-9);  // the nearest: toe patch 3 cm before the edge
+  EXPECT_NEAR(d.y(), 0.0, 1e-9);
+  EXPECT_TRUE(goodPlacement(toe, heel, d.x(), d.y(), t, s));
+  // Heel just on the stage, toe on it: already good. Heel by the edge: forward onto it.
+  const Eigen::Vector3d on = footholdOffset(at(1.71), at(1.51), t, s);
+  EXPECT_NEAR(on.x(), 0.02, 1e-9);
+}
+
+TEST(FootholdSearch, UnknownColumnsAreAvoidedAndNothingGoodKeepsThePapers) {
+  TestTerrain t;
+  const FootholdSearchParameters s;
+  const Eigen::Vector3d d = footholdOffset(at(0.45), at(0.25), t, s);
+  EXPECT_NE(d, Eigen::Vector3d::Zero());
+  EXPECT_TRUE(goodPlacement(at(0.45), at(0.25), d.x(), d.y(), t, s));
+  EXPECT_LE(d.norm(), s.radius + 1e-9);
+  t.unknownEverywhere = true;
+  EXPECT_EQ(footholdOffset(at(1.0), at(0.8), t, s), Eigen::Vector3d::Zero());
+  FootholdSearchParameters off = s;
+  off.enabled = false;
+  EXPECT_EQ(footholdOffset(at(1.51), at(1.31), TestTerrain{}, off), Eigen::Vector3d::Zero());
+}
+
+TEST(FootholdSearch, ARampWithinTheSlopeIsGoodASteeperOneIsNot) {
+  const TestTerrain t;
+  FootholdSearchParameters s;
+  s.maxSlope = 0.7;  // 35°: the 30° ramp is good
+  EXPECT_TRUE(goodPlacement(at(3.5), at(3.3), 0, 0, t, s));
+  s.maxSlope = 0.35;  // 19°: it is not, anywhere in the window
+  EXPECT_FALSE(goodPlacement(at(3.5), at(3.3), 0, 0, t, s));
+  EXPECT_EQ(footholdOffset(at(3.5), at(3.3), t, s), Eigen::Vector3d::Zero());
+}
+
+TEST(FootholdSearch, AllocatesNothing) {
+  const TestTerrain t;
+  const FootholdSearchParameters s;
+  Eigen::Vector3d d;
+  EXPECT_EQ(test::allocationsIn([&] { d = footholdOffset(at(1.51), at(1.31), t, s); }), 0);
+  EXPECT_NE(d, Eigen::Vector3d::Zero());
+}
+
+}  // namespace
+}  // namespace ballast::gait
