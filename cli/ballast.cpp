@@ -463,6 +463,9 @@ int main(int argc, char** argv) {
       ->add_option("file", mapFile)
       ->required();
   map->add_subcommand("info", cli::help("map_info"));
+  map->add_subcommand("clear", cli::help("map_clear"));
+  std::string saveFile;
+  map->add_subcommand("save", cli::help("map_save"))->add_option("file", saveFile)->required();
 
   auto* push = app.add_subcommand("push", cli::help("push"));
   std::string force, duration, body;
@@ -627,16 +630,50 @@ int main(int argc, char** argv) {
   }
   if (name == "map") {
     auto show = [](const json& r) {
+      auto num = [](const json& v) { return v.is_number() ? v.get<double>() : 0.0; };
       const json& m = r["map"];
+      if (r.contains("saved")) std::printf("saved %s\n", r["saved"].get<std::string>().c_str());
       if (m.is_null()) {
-        std::printf("no terrain map: a flat floor\n");
-        return;
+        std::printf("file map: none\n");
+      } else {
+        std::printf("file map %s: resolution %g m, %s leaves, from [%.2f, %.2f, %.2f] to [%.2f, %.2f, %.2f] m\n",
+                    m["path"].get<std::string>().c_str(), num(m["resolution"]),
+                    m["leaves"].dump().c_str(), num(m["min"][0]), num(m["min"][1]),
+                    num(m["min"][2]), num(m["max"][0]), num(m["max"][1]), num(m["max"][2]));
       }
-      std::printf("map %s: resolution %g m, %s leaves, from %s to %s\n",
-                  m["path"].get<std::string>().c_str(), m["resolution"].get<double>(),
-                  m["leaves"].dump().c_str(), m["min"].dump().c_str(), m["max"].dump().c_str());
+      if (!r.contains("live")) return;
+      const json& l = r["live"];
+      const json& h = l["heights"];
+      std::printf("live map: %s, resolution %g m, %s leaves%s%s\n",
+                  l.value("mapping", false) ? "mapping from the lidar" : "not mapping",
+                  num(l["resolution"]), l["leaves"].dump().c_str(),
+                  l.value("seeded_from", "").empty() ? "" : ", seeded from ",
+                  l.value("seeded_from", "").c_str());
+      std::printf("  heights: %s x %s columns, %s known", h["columns"][0].dump().c_str(),
+                  h["columns"][1].dump().c_str(), h["known"].dump().c_str());
+      if (h.contains("extent"))
+        std::printf(", x %.2f..%.2f m, y %.2f..%.2f m", num(h["extent"][0]), num(h["extent"][2]),
+                    num(h["extent"][1]), num(h["extent"][3]));
+      std::printf("; ground reference %.2f m, clearance %.2f m\n", num(h["reference"]),
+                  num(h["clearance"]));
+      const json& sc = l["scans"];
+      std::printf("  scans: %s inserted, %s skipped\n", sc["inserted"].dump().c_str(),
+                  sc["skipped"].dump().c_str());
+      if (l.contains("last_scan")) {
+        const json& ls = l["last_scan"];
+        std::printf("  last scan: t = %.2f s, %s points, %s columns changed, insert %.2f ms + grid %.2f ms (max %.2f ms)\n",
+                    num(ls["t"]), ls["points"].dump().c_str(), ls["columns"].dump().c_str(),
+                    num(ls["insert_ms"]), num(ls["grid_ms"]), num(ls["max_ms"]));
+      }
+      if (l.contains("latency_ms"))
+        std::printf("  scan to planner: %.1f ms (max %.1f ms)\n", num(l["latency_ms"]["last"]),
+                    num(l["latency_ms"]["max"]));
+      if (l.contains("problem")) std::printf("  problem: %s\n", l["problem"].get<std::string>().c_str());
     };
     if (sub(verb) == "info") return s.run({{"cmd", "map_info"}}, show);
+    if (sub(verb) == "clear") return s.run({{"cmd", "map_clear"}}, show);
+    if (sub(verb) == "save")
+      return s.run({{"cmd", "map_save"}, {"path", fs::absolute(saveFile).string()}}, show);
     return s.run({{"cmd", "map_load"}, {"path", fs::absolute(mapFile).string()}}, show);
   }
   if (name == "record") {

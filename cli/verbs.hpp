@@ -19,7 +19,8 @@ inline constexpr Verb kVerbs[] = {
     {"passive", "passive"},        {"push", "push"},
     {"profile list", "profile_list"}, {"profile show", "profile_show"},
     {"profile use", "profile_use"}, {"map load", "map_load"},
-    {"map info", "map_info"},      {"record start", "record_start"},
+    {"map info", "map_info"},      {"map clear", "map_clear"},
+    {"map save", "map_save"},      {"record start", "record_start"},
     {"record stop", "record_stop"}, {"lease acquire", "lease_acquire"},
     {"lease take", "lease_take"},  {"lease return", "lease_return"},
 };

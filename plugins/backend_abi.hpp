@@ -27,8 +27,9 @@
 
 namespace ballast::backend {
 
-// 2: position fixes; 3: TickTiming; 4: Config::contact_points, BackendEntry::check
-inline constexpr std::uint32_t kBackendAbiVersion = 5;
+// 2: position fixes; 3: TickTiming; 4: Config::contact_points, BackendEntry::check;
+// 5: TickTiming::host_stall; 6: scans in the sensor frame (PointCloudView::frame)
+inline constexpr std::uint32_t kBackendAbiVersion = 6;
 inline constexpr const char* kBackendEntrySymbol = "ballast_backend_entry";
 
 inline constexpr int kMaxJoints = 32;
@@ -183,12 +184,32 @@ struct Push {
   double duration = 0.0;        ///< s
 };
 
-/// A lidar scan: points in the world frame, valid until the next call on the backend.
+/// The frame a scan's points are in.
+enum class ScanFrame : int {
+  /// The world: the backend placed them (a simulator by its true pose). ballastd inserts them
+  /// as they are.
+  kWorld = 0,
+  /// The sensor's own frame (mounted on PointCloudView::sensor_link at sensor_offset,
+  /// sensor_rpy) at the scan's time.
+  /// ballastd places them by its own estimate of the robot's pose (the estimated base and the
+  /// measured joints), as it places everything the planner sees: a map made from them agrees
+  /// with where the robot thinks its feet are. What a real lidar driver gives.
+  kSensor = 1,
+};
+
+/// A lidar scan, valid until the next call on the backend. A sweeping sensor's points are
+/// brought to the sensor's pose at `time` (deskewed, as a driver does with its IMU).
 struct PointCloudView {
-  const float* xyz = nullptr;  ///< 3 * count floats
+  const float* xyz = nullptr;  ///< 3 * count floats, in `frame`
   int count = 0;
-  double time = 0.0;
-  double sensor_origin[3] = {};  ///< world
+  double time = 0.0;             ///< backend clock, s: when the sweep ended
+  double sensor_origin[3] = {};  ///< where the rays start, in `frame` (kSensor: 0, 0, 0)
+  ScanFrame frame = ScanFrame::kWorld;
+  /// kSensor: the URDF link the sensor is mounted on, and the sensor frame's placement in it
+  /// (origin, and fixed-axis roll, pitch, yaw as URDF writes them).
+  char sensor_link[kNameLength] = {};
+  double sensor_offset[3] = {};
+  double sensor_rpy[3] = {};
 };
 
 class Backend {

@@ -188,6 +188,7 @@ void ControlLoop::guardedTick() {
 void ControlLoop::tick() {
   const std::uint64_t start = tick_start_ = clock_();
   readSensors();
+  if (mapper_) handOffScan();
   if (!started_ && sensors_ok_) {
     modes_.start(settings_->initial_mode, t_);
     if (settings_->initial_mode == Mode::kStandUp) stand_.beginStandUp(input_.state);
@@ -432,6 +433,52 @@ void ControlLoop::readSensors() {
   if (sensors_ok_ && sensors_.position_fix.fresh && settings_->use_position_fix &&
       backend_.capabilities().position_fix && estimator_.correctPosition(sensors_.position_fix))
     ++position_fixes_;
+}
+
+void ControlLoop::handOffScan() {
+  const MappingSettings& ms = mapper_->settings();
+  // Lockstep: the map of the pending scan is due; it is waited for (the planner's way there).
+  if (options_.lockstep && scan_pending_ != 0 && t_ + PlannerSlot::kTimeTolerance >= scan_due_) {
+    mapper_->waitFor(scan_pending_);
+    planner_input_.map_scan = scan_pending_;
+    scan_pending_ = 0;
+  }
+  backend::PointCloudView view;
+  if (!sensors_ok_ || !backend_.lidarScan(view)) return;
+  if (t_ + PlannerSlot::kTimeTolerance < next_scan_) return;  // mapping.rate
+  next_scan_ = t_ + 0.75 / ms.rate;
+  if (options_.lockstep && scan_pending_ != 0) {  // one in flight at a time
+    mapper_->waitFor(scan_pending_);
+    planner_input_.map_scan = scan_pending_;
+  }
+  LidarScan& scan = mapper_->back();
+  scan.index = ++scans_handed_;
+  scan.t = t_;
+  scan.handoff_ns = monotonicNs();
+  scan.truncated = view.count > LidarScan::kMaxPoints;
+  scan.count = view.xyz ? std::min(std::max(view.count, 0), LidarScan::kMaxPoints) : 0;
+  std::memcpy(scan.xyz.data(), view.xyz, sizeof(float) * 3 * static_cast<std::size_t>(scan.count));
+  scan.sensor_frame = view.frame == backend::ScanFrame::kSensor;
+  std::memcpy(scan.sensor_link, view.sensor_link, sizeof(scan.sensor_link));
+  scan.sensor_link[sizeof(scan.sensor_link) - 1] = '\0';
+  for (int k = 0; k < 3; ++k) {
+    scan.origin[k] = view.sensor_origin[k];
+    scan.sensor_offset[k] = view.sensor_offset[k];
+    scan.sensor_rpy[k] = view.sensor_rpy[k];
+  }
+  const EstimatedState& est = input_.state;
+  scan.base = est.base;
+  scan.num_joints = est.num_joints;
+  std::memcpy(scan.q, est.q, sizeof(scan.q));
+  for (int c = 0; c < kNumContacts; ++c) {
+    scan.contact[c] = est.contact[c];
+    for (int k = 0; k < 3; ++k) scan.contact_position[c][k] = est.contact_position[c][k];
+  }
+  mapper_->handOff();
+  if (options_.lockstep) {
+    scan_pending_ = scan.index;
+    scan_due_ = t_ + ms.latency;
+  }
 }
 
 void ControlLoop::handleCommands() {

@@ -43,6 +43,7 @@
 #include "control/spsc_ring.hpp"
 #include "control/stand_controller.hpp"
 #include "control/telemetry.hpp"
+#include "control/terrain_mapper.hpp"
 #include "control/walking_controller.hpp"
 #include "model/model.hpp"
 
@@ -78,6 +79,13 @@ class ControlLoop {
   void attachPlanner(Planner* planner);
   /// Not while run() runs: stops the planner's thread and empties the slot.
   void detachPlanner();
+  /// Before run(): the live map the loop hands the backend's lidar scans to (nullptr: none;
+  /// terrain_mapper.hpp). It must outlive the loop's run.
+  void attachMapper(TerrainMapper* mapper) {
+    mapper_ = mapper;
+    // Lockstep: the planner sees a scan's map only once it is due (handOffScan).
+    planner_input_.map_scan = mapper && options_.lockstep ? 0 : ~std::uint64_t{0};
+  }
 
   // ---- IO thread (single producer of commands, single consumer of replies and events) ----
   /// False if the command ring is full.
@@ -106,6 +114,8 @@ class ControlLoop {
 
  private:
   void readSensors();
+  /// A new lidar scan copied into the mapper's slot (mapping.rate); lockstep: the maps due.
+  void handOffScan();
   void handleCommands();
   void applySettings(const SettingsPtr& next, CommandReply& reply);
   void detectFall();
@@ -140,6 +150,11 @@ class ControlLoop {
   WalkingController walking_;
   ModeMachine modes_;
   PlannerSlot planner_;
+  TerrainMapper* mapper_ = nullptr;
+  std::uint64_t scans_handed_ = 0;
+  double next_scan_ = -1.0;         // controller time before which a scan is not inserted
+  std::uint64_t scan_pending_ = 0;  // lockstep: the scan whose map is due at scan_due_
+  double scan_due_ = 0.0;
   /// The last valid plan, the loop's own copy (the planner's buffers turn over underneath).
   PlannerOutput plan_;
   bool have_plan_ = false;

@@ -1,17 +1,29 @@
-// The planner's terrain: gait::TerrainQuery over a terrain::HeightMap, and the hand-over of a
-// new map from the IO thread (`ballast map load`, a profile switch) to the planner thread.
+// The planner's terrain: gait::TerrainQuery over a terrain::HeightMap, and the hand-over of new
+// maps from the threads that make them (the mapping thread after each scan; the IO thread for
+// `ballast map load/clear` and profile switches) to the planner thread.
 //
-//   IO thread       publish(map)  -- builds the HeightMap first, then one atomic store
-//   planner thread  refresh()     -- at the start of an update: takes the newest map, if any
-//                   height(x, y)  -- reads the map taken last; never waits, never allocates
+//   mapping/IO thread  publish(map, scan, handoff_ns)  -- builds the HeightMap first, then one
+//                                                         atomic store into a ring of 4
+//   planner thread     refresh(wanted)  -- at the start of an update: takes the newest map made
+//                                          from scans up to `wanted` (all: kNewest)
+//                      height(x, y)     -- reads the map taken last; never waits, never allocates
 //
-// The map is a std::shared_ptr<const HeightMap> published with std::atomic_store and taken with
-// std::atomic_load: the only lock either side may meet is the standard library's for the
-// pointer copy itself (a few instructions, never held across a map build or a file read). One
-// update plans on one map; a swap shows from the next. The planner thread drops the old map (a
-// free() there is fine: the 1 kHz loop never sees the terrain). Maps are never null.
+// Each published map is a std::shared_ptr<const Published> stored with std::atomic_store and
+// taken with std::atomic_load: the only lock either side may meet is the standard library's for
+// the pointer copy itself (a few instructions, never held across a map build or a file read).
+// The ring keeps the last four so that in lockstep the planner finds exactly the map of the
+// scan the loop says is due (PlannerInput::map_scan), even when the mapping thread has gone on
+// to the next scan: the plans do not depend on how fast that thread ran. One update plans on
+// one map; a swap shows from the next. The planner thread drops the old map (a free() there is
+// fine: the 1 kHz loop never sees the terrain). Maps are never null.
+//
+// Latency: a published map carries the wall time its scan was handed off by the loop; when the
+// planner takes it, the difference is the scan-to-planner latency (last and largest kept).
 #pragma once
 
+#include <array>
+#include <atomic>
+#include <cstdint>
 #include <memory>
 
 #include "gait/terrain_query.hpp"
@@ -21,27 +33,49 @@ namespace ballast::control {
 
 class MapTerrain final : public gait::TerrainQuery {
  public:
+  static constexpr std::uint64_t kNewest = ~std::uint64_t{0};
+
   /// Throws std::invalid_argument for a null map.
   explicit MapTerrain(std::shared_ptr<const terrain::HeightMap> map);
 
-  /// Any thread: the map the planner takes at its next refresh(). Throws std::invalid_argument
-  /// for a null map.
-  void publish(std::shared_ptr<const terrain::HeightMap> map);
-  /// Planner thread: takes the newest published map; true if it changed.
-  bool refresh();
+  /// Any thread but the loop's: a map the planner takes at its next refresh(). `scan`: the
+  /// index of the last scan in it (0: none); `handoff_ns`: the wall time (monotonicNs) that
+  /// scan left the loop (0: not from a scan). Throws std::invalid_argument for a null map.
+  void publish(std::shared_ptr<const terrain::HeightMap> map, std::uint64_t scan = 0,
+               std::uint64_t handoff_ns = 0);
+  /// Planner thread: takes the newest published map made of scans up to `wanted`; true if it
+  /// changed.
+  bool refresh(std::uint64_t wanted = kNewest);
 
   /// Planner thread: the map in use (until the next refresh()).
-  const terrain::HeightMap& map() const { return *current_; }
-  double height(double x, double y) const override { return current_->height(x, y); }
+  const terrain::HeightMap& map() const { return *current_->map; }
+  double height(double x, double y) const override { return current_->map->height(x, y); }
   /// A map's unknown columns are not known; without a map (a flat floor, no columns at all)
-  /// the floor is the ground everywhere, as the profile says.
+  /// the floor is the ground everywhere, as the profile says. A cleared live map knows nothing.
   bool known(double x, double y) const override {
-    return current_->columnsX() == 0 || current_->known(x, y);
+    const terrain::HeightMap& m = *current_->map;
+    return m.flatFloor() || m.known(x, y);
   }
 
+  /// Any thread: ms from a scan's hand-off to the planner taking its map (the last one, the
+  /// largest since start); -1 before any.
+  double lastLatencyMs() const { return last_latency_ms_.load(std::memory_order_relaxed); }
+  double maxLatencyMs() const { return max_latency_ms_.load(std::memory_order_relaxed); }
+  /// Any thread: the scan index of the map the planner uses.
+  std::uint64_t scanInUse() const { return scan_in_use_.load(std::memory_order_relaxed); }
+
  private:
-  std::shared_ptr<const terrain::HeightMap> published_;  // atomic_load / atomic_store only
-  std::shared_ptr<const terrain::HeightMap> current_;    // planner thread only
+  struct Published {
+    std::shared_ptr<const terrain::HeightMap> map;
+    std::uint64_t scan = 0, serial = 0, handoff_ns = 0;
+  };
+  static constexpr std::size_t kRing = 4;
+  std::array<std::shared_ptr<const Published>, kRing> ring_;  // atomic_load / atomic_store only
+  std::atomic<std::uint64_t> serial_{0};  // of the newest published
+  std::atomic<std::uint64_t> writing_{0};  // publishers' serials (publish() may race itself)
+  std::shared_ptr<const Published> current_;  // planner thread only
+  std::atomic<double> last_latency_ms_{-1.0}, max_latency_ms_{-1.0};
+  std::atomic<std::uint64_t> scan_in_use_{0};
 };
 
 }  // namespace ballast::control

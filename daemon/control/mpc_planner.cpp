@@ -56,12 +56,13 @@ void MpcPlanner::requestSettings(SettingsPtr settings) {
   pending_.swap(settings);  // a request not yet taken goes outside the lock
 }
 
-void MpcPlanner::setTerrain(std::shared_ptr<const terrain::HeightMap> terrain) {
-  terrain_.publish(std::move(terrain));
+void MpcPlanner::setTerrain(std::shared_ptr<const terrain::HeightMap> terrain,
+                            std::uint64_t scan, std::uint64_t handoff_ns) {
+  terrain_.publish(std::move(terrain), scan, handoff_ns);
 }
 
 void MpcPlanner::plan(const PlannerInput& input, PlannerOutput& output) {
-  terrain_.refresh();
+  terrain_.refresh(input.map_scan);
   const bool walk = input.mode == Mode::kWalk;
   if (input.restart || !walking_) {
     SettingsPtr next;

@@ -48,7 +48,12 @@ class MpcPlanner final : public Planner {
   /// request replaces one not yet taken).
   void requestSettings(SettingsPtr settings);
   /// Any thread but the loop's: the terrain from the next plan() on (MapTerrain::publish).
-  void setTerrain(std::shared_ptr<const terrain::HeightMap> terrain);
+  /// `scan`, `handoff_ns`: the last lidar scan in it and when the loop handed it off
+  /// (MapTerrain::publish).
+  void setTerrain(std::shared_ptr<const terrain::HeightMap> terrain, std::uint64_t scan = 0,
+                  std::uint64_t handoff_ns = 0);
+  /// The planner's terrain, for its latency figures (any thread).
+  const MapTerrain& terrain() const { return terrain_; }
 
  private:
   void rebuild();

@@ -79,6 +79,11 @@ struct PlannerInput {
   /// s: the plan will be used from t + lead on (the solve's latency), so the planner starts it
   /// there, from the state the plan in force predicts for then (see MpcPlanner).
   double lead = 0.0;
+  /// The planner plans on the newest terrain map made of lidar scans up to this one (scans
+  /// count from 1 as the loop hands them off). Real time: all of them; lockstep: those whose
+  /// insertion was due by t (mapping.latency), so plans do not depend on the mapping thread's
+  /// speed.
+  std::uint64_t map_scan = ~std::uint64_t{0};
   EstimatedState state;
   BaseCommand command;
 };

@@ -1,5 +1,7 @@
 #include "main/daemon.hpp"
 
+#include "terrain/octree_file.hpp"
+
 namespace ballast::daemon {
 
 Daemon::Daemon(const DaemonOptions& options) {
@@ -123,6 +125,19 @@ Daemon::Daemon(const DaemonOptions& options) {
   } catch (const std::exception& e) {
     fail(e.what());
   }
+  // The live map: seeded with the file map, fed the lidar's scans by the loop when mapping is
+  // on and the backend has a lidar; the planner plans on its grid.
+  try {
+    mapper_ = std::make_unique<control::TerrainMapper>(*model_, settings_.mapping, planner_.get());
+    if (context_.map.loaded()) mapper_->seed(context_.map.tree(), context_.map.path());
+  } catch (const terrain::MapError& e) {
+    fail(problem(&settings_.mapping.map.resolution, e.what()));
+  }
+  if (settings_.mapping.enabled && caps.lidar) {
+    loop_->attachMapper(mapper_.get());
+    mapper_->start();
+  }
+  context_.mapper = mapper_.get();
   writer_ = std::make_unique<control::TelemetryWriter>(loop_->telemetryRing(), loop_->jointNames());
   loop_->setTelemetryWriter(writer_.get());
   loop_->attachPlanner(planner_.get());
@@ -141,7 +156,9 @@ Daemon::~Daemon() {
   // The planner's thread stops and its seat empties before the planner goes (in lockstep it
   // answers while the loop ticks on), then the loop.
   if (loop_) loop_->detachPlanner();
+  if (mapper_) mapper_->stop();  // it hands the planner maps
   planner_.reset();
+  mapper_.reset();
   loop_.reset();
   if (backend_started_ && !loop_ran_) backend_->stop();
 }

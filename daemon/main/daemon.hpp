@@ -70,6 +70,7 @@ class Daemon {
   control::MpcPlanner& planner() { return *planner_; }
   control::ControlLoop& loop() { return *loop_; }
   control::TelemetryWriter& writer() { return *writer_; }
+  control::TerrainMapper& mapper() { return *mapper_; }
   server::Server* server() { return server_.get(); }
 
   /// Starts the telemetry writer's thread, and a recording if the profile asks for one.
@@ -89,6 +90,7 @@ class Daemon {
   bool backend_started_ = false, loop_ran_ = false, backend_checked_ = false;
   std::string backend_note_;
   std::unique_ptr<control::MpcPlanner> planner_;
+  std::unique_ptr<control::TerrainMapper> mapper_;
   std::unique_ptr<control::ControlLoop> loop_;
   std::unique_ptr<control::TelemetryWriter> writer_;
   std::unique_ptr<server::Server> server_;

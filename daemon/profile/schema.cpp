@@ -30,6 +30,8 @@ using SQ = mpc::SqpSettings;
 using W = wbc::WbcSettings;
 using SV = server::ServerConfig;
 using R = Rule<Settings>;
+using MS = control::MappingSettings;
+using LM = terrain::LiveMapSettings;
 
 constexpr double kPi = 3.14159265358979323846;
 
@@ -218,6 +220,25 @@ const Schema<Settings> kTable({
   // ---- terrain
   path("terrain.map", "", "OctoMap file (.bt or .ot) of the terrain for the planner; the simulation builds its world from it at start (a profile switch changes the planner's map only); empty: a flat floor").into<&S::terrain_map>(),
   number("terrain.ground_height", "0", -100, 100, "m", "height of the floor under the robot at start").into<&S::control, &C::ground_height>(),
+  number("terrain.clearance", "0.5", 0.05, 5, "m", "ground is what a foot can stand on: occupied cells whose bottom is more than this above the stance feet (a ceiling, a table top) are not ground").needsRestart().into<&S::mapping, &MS::map, &LM::rule, &terrain::GroundRule::clearance>(),
+
+  // ---- mapping: the live map from the robot's lidar
+  flag("mapping.enabled", "true", "insert the backend's lidar scans into the terrain map (when it has a lidar), placed by the estimated pose; off: the map is only what `map load` gives").needsRestart().into<&S::mapping, &MS::enabled>(),
+  number("mapping.resolution", "0.04", 0.01, 0.5, "m", "cell size of the live map (a map loaded or seeded from a file keeps its own)").needsRestart().into<&S::mapping, &MS::map, &LM::resolution>(),
+  number("mapping.max_range", "6", 0.2, 100, "m", "lidar hits farther than this from the sensor are not inserted").needsRestart().into<&S::mapping, &MS::map, &LM::maxRange>(),
+  number("mapping.clear_distance", "1", 0, 100, "m", "the last part of each ray, before its hit, that is cleared (free space); whole rays cost far more").needsRestart().into<&S::mapping, &MS::map, &LM::clearDistance>(),
+  number("mapping.rate", "10", 0.1, 100, "Hz", "at most this many scans inserted per second (the others are skipped)").needsRestart().into<&S::mapping, &MS::rate>(),
+  number("mapping.latency", "0.05", 0.001, 1, "s", "lockstep: controller time from a scan to the planner having its map (the loop waits for the mapping thread then); real time takes maps as they come").needsRestart().into<&S::mapping, &MS::latency>(),
+  number("mapping.prob_hit", "0.7", 0.501, 0.999, "", "OctoMap sensor model: probability that a cell a ray ends in is occupied").needsRestart().into<&S::mapping, &MS::map, &LM::probHit>(),
+  number("mapping.prob_miss", "0.4", 0.001, 0.499, "", "OctoMap sensor model: probability that a cell a ray crosses is occupied").needsRestart().into<&S::mapping, &MS::map, &LM::probMiss>(),
+  number("mapping.clamp_min", "0.12", 0.001, 0.999, "", "OctoMap clamping: lowest occupancy probability a cell keeps (a map that keeps up with a changing world)").needsRestart().into<&S::mapping, &MS::map, &LM::clampMin>(),
+  number("mapping.clamp_max", "0.97", 0.001, 0.999, "", "OctoMap clamping: highest occupancy probability a cell keeps").needsRestart().into<&S::mapping, &MS::map, &LM::clampMax>(),
+  R{"mapping.clamp_min", [](const S& s) -> std::string {
+      return s.mapping.map.clampMin >= s.mapping.map.clampMax ? "must be below mapping.clamp_max" : "";
+    }},
+  R{"mapping.latency", [](const S& s) -> std::string {
+      return s.mapping.latency > 0.75 / s.mapping.rate ? "is longer than the time between two scans inserted (0.75 / mapping.rate)" : "";
+    }},
 
   // ---- safety
   number("safety.max_tilt", "0.8", 0.05, 3.14, "rad", "fall: the base tilts beyond this").into<&S::control, &C::max_tilt>(),

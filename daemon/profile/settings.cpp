@@ -75,6 +75,8 @@ void derive(Settings& s) {
   l.walkGait.walking = true;
   l.problem.minFeetDistance = l.swing.minFeetDistance;
   l.sqp.nodes = static_cast<int>(std::lround(s.planner_horizon / l.sqp.dt));
+  s.mapping.map.ground = c.ground_height;
+  s.mapping.map.rule.reference = c.ground_height;
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "common/settings_schema.hpp"  // plugins/common
 #include "control/settings.hpp"
 #include "model/contact_points.hpp"
+#include "control/terrain_mapper.hpp"
 #include "model/model.hpp"
 #include "profile/profile.hpp"
 #include "server/server_config.hpp"
@@ -51,6 +52,7 @@ struct Settings {
   double planner_horizon;  ///< s; the planner's nodes are horizon / dt
   BackendSettings backend;
   std::string terrain_map;
+  control::MappingSettings mapping;  ///< the live map from the lidar
   std::size_t telemetry_ring_frames;
   std::string record_on_start;
   server::ServerConfig server;

@@ -154,7 +154,18 @@ void Server::finishSwitch(Pending& p, bool applied, const char* message) {
     if (ctx_.planner) ctx_.planner->requestSettings(p.settings);
     if (p.map) {
       ctx_.map = std::move(*p.map);
-      if (ctx_.planner) ctx_.planner->setTerrain(ctx_.map.heights());
+      if (ctx_.mapper) {
+        try {
+          if (ctx_.map.loaded())
+            ctx_.mapper->seed(ctx_.map.tree(), ctx_.map.path());
+          else
+            ctx_.mapper->clear();
+        } catch (const std::exception& e) {  // the tree was read and its grid built already
+          spdlog::error("profile {}: the live map keeps its terrain: {}", p.profile->name(), e.what());
+        }
+      } else if (ctx_.planner) {
+        ctx_.planner->setTerrain(ctx_.map.heights());
+      }
     }
     spdlog::info("profile {} in force ({})", p.profile->name(), message);
     ctx_.profile = std::move(p.profile);

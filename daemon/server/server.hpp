@@ -59,7 +59,9 @@ struct DaemonContext {
   std::vector<std::string> profile_dirs;
   std::string backend_name;
   bool simulation = false;
-  TerrainMap map;
+  TerrainMap map;  ///< the file map last loaded (`map load`, terrain.map), if any
+  /// The live map the planner plans on: seeded from `map`, fed the lidar's scans (daemon only).
+  control::TerrainMapper* mapper = nullptr;
 };
 
 class Server {
@@ -165,6 +167,10 @@ class Server {
   void push(Client& c, const Request& r);
   void mapLoad(Client& c, const Request& r);
   void mapInfo(Client& c, const Request& r);
+  void mapClear(Client& c, const Request& r);
+  void mapSave(Client& c, const Request& r);
+  /// {"map": the file map's info or null, "live": the live map's}.
+  nlohmann::json mapReply();
   void recordStart(Client& c, const Request& r);
   void recordStop(Client& c, const Request& r);
   /// Sends `command` to the loop; the reply goes to the client when the loop answers.

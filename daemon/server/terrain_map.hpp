@@ -32,6 +32,8 @@ class TerrainMap {
   /// message and keeps the current map.
   bool load(const std::string& path, double ground, std::string& error);
   bool loaded() const { return tree_ != nullptr; }
+  /// The map's tree (loaded() only): what the live map is seeded with.
+  const octomap::OcTree& tree() const { return *tree_; }
   /// The path of the map in use, "" for the flat floor.
   const std::string& path() const { return path_; }
   /// The height grid for the planner (never null; flat at the ground without a map).

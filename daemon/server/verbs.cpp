@@ -10,6 +10,8 @@
 
 #include "common/format.hpp"  // plugins/common
 #include "server/server.hpp"
+#include "control/terrain_mapper.hpp"
+#include "terrain/octree_file.hpp"
 #include "server/server_detail.hpp"
 
 namespace ballast::server {
@@ -38,6 +40,8 @@ const std::vector<Server::Verb>& Server::verbs() {
       {"profile_use", &Server::profileUse},
       {"map_load", &Server::mapLoad},
       {"map_info", &Server::mapInfo},
+      {"map_clear", &Server::mapClear},
+      {"map_save", &Server::mapSave},
       {"record_start", &Server::recordStart},
       {"record_stop", &Server::recordStop},
       {"lease_acquire", &Server::leaseAcquire},
@@ -117,12 +121,58 @@ void Server::mapLoad(Client& c, const Request& r) {
          error + "; the map in use stays");
     return;
   }
-  if (ctx_.planner) ctx_.planner->setTerrain(ctx_.map.heights());
+  if (ctx_.mapper) {
+    try {
+      ctx_.mapper->seed(ctx_.map.tree(), path);  // hands the planner its grid
+    } catch (const terrain::MapError& e) {
+      fail(c.fd, r.id, protocol::kIoError, std::string(e.what()) + "; the map in use stays");
+      return;
+    }
+  } else if (ctx_.planner) {
+    ctx_.planner->setTerrain(ctx_.map.heights());
+  }
   spdlog::info("terrain map {} loaded", path);
-  reply(c.fd, r.id, {{"map", ctx_.map.info()}});
+  reply(c.fd, r.id, mapReply());
 }
 
-void Server::mapInfo(Client& c, const Request& r) { reply(c.fd, r.id, {{"map", ctx_.map.info()}}); }
+void Server::mapClear(Client& c, const Request& r) {
+  ctx_.map = TerrainMap(ctx_.settings->ground_height);
+  if (ctx_.mapper)
+    ctx_.mapper->clear();
+  else if (ctx_.planner)
+    ctx_.planner->setTerrain(ctx_.map.heights());
+  spdlog::info("terrain map cleared");
+  reply(c.fd, r.id, mapReply());
+}
+
+void Server::mapSave(Client& c, const Request& r) {
+  const std::string path = r.text("path");
+  std::string error;
+  if (path.empty() || path[0] != '/') {
+    fail(c.fd, r.id, protocol::kOutOfRange, "map save: the path must be absolute, got '" + path + "'");
+    return;
+  }
+  if (!ctx_.mapper) {
+    fail(c.fd, r.id, protocol::kRefused, "map save: no live map");
+    return;
+  }
+  if (!ctx_.mapper->save(path, error)) {
+    fail(c.fd, r.id, protocol::kIoError, error);
+    return;
+  }
+  spdlog::info("terrain map saved to {}", path);
+  nlohmann::json j = mapReply();
+  j["saved"] = path;
+  reply(c.fd, r.id, j);
+}
+
+nlohmann::json Server::mapReply() {
+  nlohmann::json j = {{"map", ctx_.map.info()}};
+  if (ctx_.mapper) j["live"] = ctx_.mapper->info();
+  return j;
+}
+
+void Server::mapInfo(Client& c, const Request& r) { reply(c.fd, r.id, mapReply()); }
 
 void Server::recordStart(Client& c, const Request& r) {
   const std::string path = r.text("path");

@@ -97,6 +97,10 @@ class HeightMap {
   double yMin() const { return yMin_; }
   /// Columns with ground (the rest read as the ground default).
   std::size_t knownColumns() const { return knownCount_; }
+  /// No map at all: a flat floor at the ground everywhere, which a profile without a map says
+  /// is there (known). A live map with nothing observed yet (cleared) is not that: it has no
+  /// columns either, and nothing in it is known.
+  bool flatFloor() const { return nx_ == 0 && !unobserved_; }
 
  private:
   friend class LiveMap;  // keeps a mutable grid and updates it column by column
@@ -114,6 +118,7 @@ class HeightMap {
   double resolution_ = 0.0, inverseResolution_ = 0.0;
   double xMin_ = 0.0, yMin_ = 0.0;
   std::size_t nx_ = 0, ny_ = 0, knownCount_ = 0;
+  bool unobserved_ = false;  // a live map's empty grid: nothing known (not a flat floor)
   std::vector<double> cells_;         // row-major: ny rows of nx columns
   std::vector<std::uint8_t> known_;   // the same layout: 1 where the column has ground
 };

@@ -28,6 +28,7 @@ constexpr long kGrowMargin = 64;
 }  // namespace
 
 LiveMap::LiveMap(const LiveMapSettings& settings) : settings_(settings), grid_(settings.ground) {
+  grid_.unobserved_ = true;
   const auto fail = [](const std::string& why) { return MapError("mapping: " + why); };
   const LiveMapSettings& s = settings_;
   if (!(s.resolution >= 1e-3 && s.resolution <= 1.0))
@@ -196,6 +197,7 @@ void LiveMap::rebuild() {
   grid_ = occupied ? HeightMap::fromOcTree(*tree_, settings_.ground, "", rule)
                    : HeightMap(settings_.ground);
   grid_.rule_ = rule;
+  grid_.unobserved_ = true;
 }
 
 void LiveMap::seed(const octomap::OcTree& tree, const std::string& path) {
@@ -213,6 +215,7 @@ void LiveMap::clear() {
   const GroundRule rule = grid_.rule_;
   grid_ = HeightMap(settings_.ground);
   grid_.rule_ = rule;
+  grid_.unobserved_ = true;
 }
 
 bool LiveMap::setReference(double z) {

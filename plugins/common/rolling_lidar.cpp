@@ -1,5 +1,8 @@
 #include "rolling_lidar.hpp"
 
+#include <cstdio>
+#include <cstring>
+
 namespace ballast::plugin {
 
 void RollingLidar::configure(const LidarSettings& s, std::uint64_t seed) {
@@ -27,6 +30,8 @@ void RollingLidar::configure(const LidarSettings& s, std::uint64_t seed) {
   maxRange_ = s.max_range;
   rangeNoise_ = s.range_noise;
   seed_ = seed;
+  std::snprintf(link_, sizeof(link_), "%s", s.link.c_str());
+  for (int k = 0; k < 3; ++k) offset_[k] = s.offset[k], rpy_[k] = s.rpy[k];
   start(0.0);
 }
 
@@ -39,11 +44,17 @@ void RollingLidar::start(double t) {
   normal_.reset();
 }
 
-void RollingLidar::publish(double t, const double origin[3]) {
+void RollingLidar::publish(double t, const double origin[3], const double R[9]) {
+  // Into the sensor frame at the sweep's end: p_s = Rᵀ (p_w − origin).
+  for (int i = 0; i < buildingCount_; ++i) {
+    float* p = &building_[static_cast<std::size_t>(3 * i)];
+    const double d[3] = {p[0] - origin[0], p[1] - origin[1], p[2] - origin[2]};
+    for (int k = 0; k < 3; ++k)
+      p[k] = static_cast<float>(R[k] * d[0] + R[3 + k] * d[1] + R[6 + k] * d[2]);
+  }
   std::swap(building_, ready_);
   readyCount_ = buildingCount_;
   readyTime_ = t;
-  for (int k = 0; k < 3; ++k) readyOrigin_[k] = origin[k];
   readyNew_ = true;
   buildingCount_ = 0;
   nextRay_ = 0;
@@ -56,7 +67,13 @@ bool RollingLidar::take(backend::PointCloudView& view) {
   view.xyz = ready_.data();
   view.count = readyCount_;
   view.time = readyTime_;
-  for (int k = 0; k < 3; ++k) view.sensor_origin[k] = readyOrigin_[k];
+  view.frame = backend::ScanFrame::kSensor;
+  std::memcpy(view.sensor_link, link_, sizeof(view.sensor_link));
+  for (int k = 0; k < 3; ++k) {
+    view.sensor_origin[k] = 0.0;
+    view.sensor_offset[k] = offset_[k];
+    view.sensor_rpy[k] = rpy_[k];
+  }
   return true;
 }
 

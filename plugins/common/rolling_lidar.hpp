@@ -5,14 +5,19 @@
 // across horizontal_fov centred on x, elevation from vertical_min to vertical_max. Like a
 // spinning sensor it sweeps during 1/rate s: each tick casts the rays due by then, from the pose
 // the sensor has then, so a scan costs the same every tick and moving shows up as it would. A
-// finished scan is published (world-frame points, hits within [min_range, max_range] only, with
-// optional range noise from its own generator). Nothing allocates after configure().
+// finished scan is published in the sensor frame at the sweep's end (ABI ScanFrame::kSensor:
+// each point, cast from the pose the sensor had when its ray was due, is brought to the last
+// pose, as a driver deskews a sweep with its IMU), with the link the sensor is mounted on and
+// its placement there, so ballastd places it by its own estimate of the robot's pose. Hits
+// within [min_range, max_range] only, with optional range noise from its own generator.
+// Nothing allocates after configure().
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "backend_abi.hpp"
@@ -25,6 +30,10 @@ struct LidarSettings {
   double horizontal_fov = 6.283185307179586;  ///< rad, centred on x
   double vertical_min = -1.0, vertical_max = 0.25;  ///< elevation, rad
   double min_range = 0.1, max_range = 10.0, range_noise = 0.0;  ///< m
+  /// The mount, as PointCloudView says it: the URDF link the sensor is on and the sensor frame's
+  /// placement in it (origin, and fixed-axis roll, pitch, yaw).
+  std::string link;
+  double offset[3] = {0.0, 0.0, 0.0}, rpy[3] = {0.0, 0.0, 0.0};
 };
 
 class RollingLidar {
@@ -42,14 +51,15 @@ class RollingLidar {
   int raysPerScan() const { return static_cast<int>(directions_.size() / 3); }
 
  private:
-  void publish(double t, const double origin[3]);
+  void publish(double t, const double origin[3], const double R[9]);
 
   std::vector<double> directions_;       ///< sensor frame, unit, 3 per ray, in sweep order
   std::vector<float> building_, ready_;  ///< 3 floats per point, capacity for a full scan
   int buildingCount_ = 0, readyCount_ = 0;
   bool readyNew_ = false;
   double readyTime_ = 0.0;
-  double readyOrigin_[3] = {};
+  char link_[backend::kNameLength] = {};
+  double offset_[3] = {}, rpy_[3] = {};
   double scanPeriod_ = 0.1, scanStart_ = 0.0;
   int nextRay_ = 0;
   double minRange_ = 0.0, maxRange_ = 10.0, rangeNoise_ = 0.0;
@@ -76,7 +86,7 @@ void RollingLidar::tick(double t, const double origin[3], const double R[9], Cas
     float* out = &building_[static_cast<std::size_t>(3 * buildingCount_++)];
     for (int k = 0; k < 3; ++k) out[k] = static_cast<float>(origin[k] + range * d[k]);
   }
-  if (nextRay_ >= total) publish(t, origin);
+  if (nextRay_ >= total) publish(t, origin, R);
 }
 
 }  // namespace ballast::plugin

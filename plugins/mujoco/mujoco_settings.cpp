@@ -139,6 +139,7 @@ plugin::LidarSettings lidarSettings(const MujocoSettings& s) {
   l.min_range = s.lidar_min_range;
   l.max_range = s.lidar_max_range;
   l.range_noise = s.lidar_range_noise;
+  l.link = s.lidar_frame;  // a link; MuJoCo's lidar sits at its origin
   return l;
 }
 

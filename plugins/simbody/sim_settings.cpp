@@ -129,6 +129,8 @@ plugin::LidarSettings lidarSettings(const SimSettings& s) {
   l.min_range = s.lidar_min_range;
   l.max_range = s.lidar_max_range;
   l.range_noise = s.lidar_range_noise;
+  l.link = s.lidar_frame.link;
+  for (int k = 0; k < 3; ++k) l.offset[k] = s.lidar_frame.offset[k], l.rpy[k] = s.lidar_frame.rpy[k];
   return l;
 }
 

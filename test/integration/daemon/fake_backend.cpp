@@ -16,6 +16,8 @@
 //   disturbance: true         takes external pushes (false: like hardware, it refuses them)
 //   non_foot_contact_at: -1   ground truth reports a non-foot contact from this time on
 //   fail_configure: false     configure() fails (for the startup error path)
+//   lidar: false              a lidar: every 0.1 s a scan (world frame, from 1.4 m above the
+//                             origin) of the floor with a 0.15 m step up from x = 1.2 m on
 //
 // Unknown keys are an error "file:line:column: key: unknown key", lines counted from the
 // section origin the daemon passes, as a real backend reports them.
@@ -57,7 +59,7 @@ class FakeBackend final : public Backend {
     static const char* kKeys[] = {"base_height", "reverse_joints",      "fault_at",
                                   "stale_at",    "stall_at",            "nan_at",   "stall",
                                   "tilt_at",     "non_foot_contact_at", "fail_configure",
-                                  "sink_at",     "disturbance"};
+                                  "sink_at",     "disturbance",         "lidar"};
     if (section.IsMap())
       for (const auto& kv : section) {
         const std::string key = kv.first.Scalar();
@@ -108,6 +110,12 @@ class FakeBackend final : public Backend {
     caps_.lockstep = true;
     caps_.ground_truth = true;
     caps_.disturbance = !section["disturbance"] || section["disturbance"].as<bool>();
+    caps_.lidar = section["lidar"] && section["lidar"].as<bool>();
+    for (int i = 0; i < 40; ++i)
+      for (int j = 0; j < 40; ++j) {
+        const float x = 0.2f + 0.05f * static_cast<float>(i), y = -1.0f + 0.05f * static_cast<float>(j);
+        scan_.insert(scan_.end(), {x, y, x >= 1.2f ? 0.15f : 0.0f});
+      }
     caps_.num_joints = static_cast<int>(names.size());
     for (std::size_t j = 0; j < names.size(); ++j)
       std::snprintf(caps_.joint_names[j], kNameLength, "%s", names[j].c_str());
@@ -198,6 +206,18 @@ class FakeBackend final : public Backend {
     return Status::kOk;
   }
 
+  bool lidarScan(PointCloudView& view) override {
+    if (!caps_.lidar || time_ + 1e-9 < next_scan_) return false;
+    next_scan_ += 0.1;
+    view.xyz = scan_.data();
+    view.count = static_cast<int>(scan_.size() / 3);
+    view.time = time_;
+    view.sensor_origin[0] = view.sensor_origin[1] = 0.0;
+    view.sensor_origin[2] = 1.4;
+    view.frame = ScanFrame::kWorld;
+    return true;
+  }
+
   const Error& lastError() const override { return error_; }
   void stop() override {}
   bool push(const Push& push, Error& error) override {
@@ -233,6 +253,8 @@ class FakeBackend final : public Backend {
   double q_[kMaxJoints] = {}, dq_[kMaxJoints] = {}, tau_[kMaxJoints] = {};
   JointCommand cmd_[kMaxJoints];
   timespec next_{};
+  std::vector<float> scan_;
+  double next_scan_ = 0.1;
 };
 
 Backend* create() {

@@ -344,7 +344,8 @@ TEST_F(Verbs, InvalidProfileSwitchKeepsTheRunningOne) {
 TEST_F(Verbs, MapLoadAndInfo) {
   Outcome r = cli({"map", "info"});
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("flat floor"), std::string::npos);
+  EXPECT_NE(r.out.find("file map: none"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("live map: "), std::string::npos) << r.out;
   octomap::OcTree tree(0.05);
   for (double x = 0; x < 1; x += 0.05)
     for (double y = 0; y < 1; y += 0.05) tree.updateNode(octomap::point3d(x, y, 0.1), true);
@@ -373,6 +374,26 @@ TEST_F(Verbs, MapLoadAndInfo) {
   r = cli({"--json", "map", "load", (dir_ / "none.bt").string()});
   EXPECT_EQ(r.parsed()["error"]["code"], "not_found");
   EXPECT_EQ(daemon_->status()["map"]["path"], map);
+
+  // The live map was seeded with the file (the simulated lidar adds its scans to it as they
+  // come): saved, it reads back with at least the slab's columns.
+  r = cli({"--json", "map", "info"});
+  EXPECT_EQ(r.parsed()["live"]["seeded_from"], map) << r.out;
+  EXPECT_GE(r.parsed()["live"]["heights"]["known"].get<std::size_t>(), tree.getNumLeafNodes());
+  const std::string saved = (dir_ / "saved.bt").string();
+  r = cli({"map", "save", saved});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("saved " + saved), std::string::npos) << r.out;
+  r = cli({"map", "clear"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("file map: none"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("seeded from"), std::string::npos) << r.out;
+  r = cli({"--json", "map", "load", saved});
+  ASSERT_EQ(r.status, 0) << r.err << r.out;
+  EXPECT_GE(r.parsed()["live"]["heights"]["known"].get<std::size_t>(), tree.getNumLeafNodes());
+  r = cli({"--json", "map", "save", "relative.bt"});  // the CLI makes it absolute
+  EXPECT_EQ(r.status, 0) << r.out;
+  fs::remove("relative.bt");
 }
 
 TEST_F(Verbs, LeaseAcquireTakeReturn) {

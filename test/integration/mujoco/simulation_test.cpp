@@ -410,10 +410,17 @@ TEST_F(MujocoStageMap, TheLidarSeesTheStageTopAtItsHeight) {
   }
   ASSERT_EQ(ticks, 100);  // 10 Hz
   EXPECT_DOUBLE_EQ(scan.time, 0.1);
-  EXPECT_GT(scan.sensor_origin[2], 1.3);  // the head
+  // In the sensor frame at the sweep's end (ABI 6): placed here by the sensor's true pose then.
+  ASSERT_EQ(scan.frame, backend::ScanFrame::kSensor);
+  EXPECT_STREQ(scan.sensor_link, "lidar");
+  double o[3], R[9];
+  sim.backend.world().lidarPose(o, R);
+  EXPECT_GT(o[2], 1.3);  // the head
   int onStage = 0, onFloor = 0;
   for (int i = 0; i < scan.count; ++i) {
-    const float* p = scan.xyz + 3 * i;
+    const float* s = scan.xyz + 3 * i;
+    double p[3];
+    for (int k = 0; k < 3; ++k) p[k] = o[k] + R[3 * k] * s[0] + R[3 * k + 1] * s[1] + R[3 * k + 2] * s[2];
     if (p[0] > 0.65 && p[0] < 1.95 && std::abs(p[1]) < 0.95) {
       ++onStage;
       EXPECT_NEAR(p[2], 0.10, kRes) << p[0] << " " << p[1];

@@ -530,10 +530,16 @@ TEST_F(StageMap, TheLidarSeesTheStageTopAtItsHeight) {
   }
   ASSERT_EQ(ticks, 100);  // 10 Hz
   EXPECT_DOUBLE_EQ(scan.time, 0.1);
-  EXPECT_GT(scan.sensor_origin[2], 1.3);  // the head
+  // In the sensor frame at the sweep's end (ABI 4): placed here by the sensor's true pose then.
+  ASSERT_EQ(scan.frame, backend::ScanFrame::kSensor);
+  EXPECT_STREQ(scan.sensor_link, "lidar");
+  EXPECT_EQ(scan.sensor_origin[2], 0.0);
+  const SimTK::Transform X_GL = sim.backend.world().lidarPose();
+  EXPECT_GT(X_GL.p()[2], 1.3);  // the head
   int onStage = 0, onFloor = 0;
   for (int i = 0; i < scan.count; ++i) {
-    const float* p = scan.xyz + 3 * i;
+    const SimTK::Vec3 w = X_GL * SimTK::Vec3(scan.xyz[3 * i], scan.xyz[3 * i + 1], scan.xyz[3 * i + 2]);
+    const double p[3] = {w[0], w[1], w[2]};
     if (p[0] > 0.65 && p[0] < 1.95 && std::abs(p[1]) < 0.95) {
       ++onStage;
       EXPECT_NEAR(p[2], 0.10, kRes) << p[0] << " " << p[1];

@@ -18,6 +18,7 @@
 #include "control/control_loop.hpp"
 #include "test/unit/control/attached_planner.hpp"
 #include "control/mpc_planner.hpp"
+#include "control/terrain_mapper.hpp"
 #include "profile/settings.hpp"
 #include "test/unit/allocation_counter.hpp"
 #include "test/unit/test_support.hpp"
@@ -348,6 +349,45 @@ TEST_F(NoAllocation, StandAndWalkUnderTheWholeBodyControllerAllocateNothing) {
   EXPECT_EQ(test::allocationsIn([&] { ticks(300); }), 0);
   EXPECT_EQ(loop_->status().mode, Mode::kWalk);
   EXPECT_GT(loop_->status().mpc_ms, 0.0);  // plans arrived and were used
+}
+
+class NoAllocationWithLidar : public LoopOnFake {
+ protected:
+  void SetUp() override {
+    section_ = "lidar: true";
+    LoopOnFake::SetUp();
+  }
+};
+
+TEST_F(NoAllocationWithLidar, HandingScansToTheMappingThreadAllocatesNothing) {
+  // The fake's lidar gives a scan every 0.1 s; the loop copies each into the mapper's slot with
+  // the estimated pose, and in lockstep waits for its map at mapping.latency. The mapping thread
+  // and the planner's allocate; the loop's ticks do not.
+  MpcPlanner planner(test::humanoid(), settings_, std::make_shared<const terrain::HeightMap>());
+  MappingSettings mapping;
+  mapping.map.resolution = 0.05;
+  TerrainMapper mapper(test::humanoid(), mapping, &planner);
+  loop_->attachMapper(&mapper);
+  mapper.start();
+  {
+    const AttachedPlanner attached(*loop_, planner);
+    ASSERT_TRUE(standUp());
+    ticks(20);
+    OperatorCommand c;
+    c.kind = CommandKind::kWalk;
+    c.vx = 0.3;
+    c.sequence = ++sequence_;
+    ASSERT_TRUE(loop_->submit(c));
+    ticks(5);
+    const std::uint64_t before = mapper.done();
+    EXPECT_EQ(test::allocationsIn([&] { ticks(500); }), 0);
+    EXPECT_GE(mapper.done(), before + 4);  // every scan inserted (lockstep skips none)
+    EXPECT_EQ(loop_->status().mode, Mode::kWalk);
+  }
+  mapper.stop();
+  const nlohmann::json info = mapper.info();
+  EXPECT_EQ(info["scans"]["skipped"], 0);
+  EXPECT_GT(info["heights"]["known"].get<int>(), 1000);
 }
 
 TEST_F(NoAllocation, CounterSeesAnAllocation) {

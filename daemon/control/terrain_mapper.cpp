@@ -1,0 +1,202 @@
+#include "control/terrain_mapper.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <ctime>
+
+#include <octomap/OcTree.h>
+
+#include "control/mpc_planner.hpp"
+#include "model/forward_kinematics.hpp"
+#include "model/frames.hpp"
+
+namespace ballast::control {
+namespace {
+
+/// A rigid transform world <- frame as LiveMap takes it.
+terrain::ScanPose toPose(const model::SE3<double>& X) {
+  terrain::ScanPose pose;
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) pose.R[3 * r + c] = X.R(r, c);
+    pose.t[r] = X.p[r];
+  }
+  return pose;
+}
+
+double round2(double x) { return std::round(x * 100.0) / 100.0; }
+
+}  // namespace
+
+TerrainMapper::TerrainMapper(const model::Model& model, const MappingSettings& settings,
+                             MpcPlanner* planner)
+    : model_(model), settings_(settings), planner_(planner), map_(settings.map) {
+  sem_init(&wake_, 0, 0);
+}
+
+TerrainMapper::~TerrainMapper() {
+  stop();
+  sem_destroy(&wake_);
+}
+
+void TerrainMapper::start() {
+  if (thread_.joinable()) return;
+  stop_ = false;
+  thread_ = std::thread([this] { run(); });
+}
+
+void TerrainMapper::stop() {
+  if (!thread_.joinable()) return;
+  stop_ = true;
+  sem_post(&wake_);
+  thread_.join();
+}
+
+void TerrainMapper::handOff() {
+  handed_.store(scans_.back().index, std::memory_order_release);
+  scans_.publish();
+  sem_post(&wake_);
+}
+
+void TerrainMapper::waitFor(std::uint64_t index) {
+  // Lockstep only: the loop waits for the mapping thread as it does for the planner there.
+  while (done() < index && thread_.joinable() && !stop_) {
+    timespec ts{0, 100000};
+    nanosleep(&ts, nullptr);
+  }
+}
+
+void TerrainMapper::run() {
+  while (true) {
+    while (sem_wait(&wake_) != 0 && errno == EINTR) {
+    }
+    if (stop_) return;
+    if (!scans_.take()) continue;
+    const LidarScan& scan = scans_.front();
+    try {
+      insert(scan);
+    } catch (const std::exception& e) {
+      spdlog::error("mapping: scan {} not inserted: {}", scan.index, e.what());
+    }
+    done_.store(scan.index, std::memory_order_release);
+  }
+}
+
+void TerrainMapper::insert(const LidarScan& scan) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (last_index_ != 0 && scan.index > last_index_ + 1) skipped_ += scan.index - last_index_ - 1;
+  last_index_ = scan.index;
+  if (scan.truncated) ++truncated_;
+
+  // The ground rule's reference: the stance feet's height (the lowest of them, so that a foot
+  // on a step's top does not hide the floor the other stands on).
+  double reference = 0.0;
+  bool feet = false;
+  for (int c = 0; c < kNumContacts; ++c)
+    if (scan.contact[c]) {
+      reference = feet ? std::min(reference, scan.contact_position[c][2]) : scan.contact_position[c][2];
+      feet = true;
+    }
+  if (feet) map_.setReference(reference);
+
+  terrain::ScanPose pose;  // world frame: as they are
+  if (scan.sensor_frame) {
+    const int frame = model_.findFrame(scan.sensor_link);
+    if (frame < 0) {
+      const std::string why = "the backend's scans are in link '" + std::string(scan.sensor_link) +
+                              "', which the robot model does not have: scans are not inserted";
+      if (problem_ != why) spdlog::error("mapping: {}", why);
+      problem_ = why;
+      return;
+    }
+    model::VecX<double> q(model_.nq);
+    for (int k = 0; k < 3; ++k) q[k] = scan.base.position[k];
+    for (int k = 0; k < 4; ++k) q[3 + k] = scan.base.orientation[k];
+    for (int j = 0; j < model_.nj(); ++j) q[7 + j] = j < scan.num_joints ? scan.q[j] : 0.0;
+    model::Data<double> data(model_);
+    model::forwardKinematics(model_, data, q);
+    // world <- link (the estimate) * link <- sensor (its mount, URDF's fixed-axis rpy).
+    const double* a = scan.sensor_rpy;
+    const double cr = std::cos(a[0]), sr = std::sin(a[0]), cp = std::cos(a[1]), sp = std::sin(a[1]),
+                 cy = std::cos(a[2]), sy = std::sin(a[2]);
+    model::SE3<double> mount;
+    mount.R << cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr,  //
+        sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr,         //
+        -sp, cp * sr, cp * cr;
+    mount.p << scan.sensor_offset[0], scan.sensor_offset[1], scan.sensor_offset[2];
+    pose = toPose(model::framePlacement(model_, data, frame) * mount);
+  }
+  // The origin goes through the same transform as the points.
+  const auto& R = pose.R;
+  const double* o = scan.origin;
+  const std::array<double, 3> origin{R[0] * o[0] + R[1] * o[1] + R[2] * o[2] + pose.t[0],
+                                     R[3] * o[0] + R[4] * o[1] + R[5] * o[2] + pose.t[1],
+                                     R[6] * o[0] + R[7] * o[1] + R[8] * o[2] + pose.t[2]};
+  last_ = map_.insert(scan.xyz.data(), scan.count, pose, origin);
+  insert_ms_max_ = std::max(insert_ms_max_, (last_.insertSeconds + last_.gridSeconds) * 1e3);
+  ++inserted_;
+  last_t_ = scan.t;
+  publish(scan.handoff_ns);
+}
+
+void TerrainMapper::publish(std::uint64_t handoff_ns) {
+  if (planner_) planner_->setTerrain(map_.heights(), last_index_, handoff_ns);
+}
+
+void TerrainMapper::seed(const octomap::OcTree& tree, const std::string& path) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  map_.seed(tree, path);
+  seeded_ = path;
+  publish(0);
+}
+
+void TerrainMapper::clear() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  map_.clear();
+  seeded_.clear();
+  publish(0);
+}
+
+bool TerrainMapper::save(const std::string& path, std::string& error) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return map_.save(path, error);
+}
+
+nlohmann::json TerrainMapper::info() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  const octomap::OcTree& tree = map_.tree();
+  const terrain::HeightMap& grid = map_.grid();
+  nlohmann::json j = {
+      {"live", true},
+      {"mapping", settings_.enabled},
+      {"seeded_from", seeded_},
+      {"resolution", tree.getResolution()},
+      {"leaves", tree.getNumLeafNodes()},
+      {"scans", {{"inserted", inserted_}, {"skipped", skipped_}, {"truncated", truncated_}}},
+      {"heights",
+       {{"columns", {grid.columnsX(), grid.columnsY()}},
+        {"known", grid.knownColumns()},
+        {"ground", grid.ground()},
+        {"reference", round2(grid.rule().reference)},
+        {"clearance", grid.rule().clearance}}}};
+  if (grid.columnsX() > 0)
+    j["heights"]["extent"] = {round2(grid.xMin()), round2(grid.yMin()),
+                              round2(grid.xMin() + grid.resolution() * grid.columnsX()),
+                              round2(grid.yMin() + grid.resolution() * grid.columnsY())};
+  if (inserted_ > 0)
+    j["last_scan"] = {{"t", round2(last_t_)},
+                      {"points", last_.points},
+                      {"columns", last_.changedColumns},
+                      {"insert_ms", round2(last_.insertSeconds * 1e3)},
+                      {"grid_ms", round2(last_.gridSeconds * 1e3)},
+                      {"max_ms", round2(insert_ms_max_)}};
+  if (planner_ && planner_->terrain().lastLatencyMs() >= 0.0)
+    j["latency_ms"] = {{"last", round2(planner_->terrain().lastLatencyMs())},
+                       {"max", round2(planner_->terrain().maxLatencyMs())}};
+  if (!problem_.empty()) j["problem"] = problem_;
+  return j;
+}
+
+}  // namespace ballast::control
