@@ -210,8 +210,9 @@ void LiveMap::seed(const octomap::OcTree& tree, const std::string& path) {
 }
 
 void LiveMap::clear() {
-  tree_->clear();
-  tree_->resetChangeDetection();
+  // Back to the profile's resolution (a seeded file's stays only as long as its cells).
+  tree_ = std::make_unique<octomap::OcTree>(settings_.resolution);
+  configureTree(*tree_);
   const GroundRule rule = grid_.rule_;
   grid_ = HeightMap(settings_.ground);
   grid_.rule_ = rule;

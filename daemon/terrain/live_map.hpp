@@ -88,7 +88,8 @@ class LiveMap {
   /// from then on; the grid is rebuilt. Throws MapError as HeightMap::fromOcTree does, leaving
   /// the map as it was.
   void seed(const octomap::OcTree& tree, const std::string& path = "");
-  /// Forgets everything (`ballast map clear`): every column unknown.
+  /// Forgets everything (`ballast map clear`): every column unknown, the tree back at
+  /// settings().resolution.
   void clear();
   /// Moves the ground rule's reference (the feet's height). The grid is rebuilt from the tree
   /// when it moved by more than a quarter of the clearance since the last build; true if so.
