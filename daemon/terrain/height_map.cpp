@@ -115,6 +115,29 @@ HeightMap HeightMap::fromFile(const std::string& path, double ground, const Grou
   return fromOcTree(*readOcTree(path), ground, path, rule);
 }
 
+bool HeightMap::filled(std::size_t i, double& h) const {
+  const long x = static_cast<long>(i % nx_), y = static_cast<long>(i / nx_);
+  const long nx = static_cast<long>(nx_), ny = static_cast<long>(ny_);
+  // The eight neighbours, each opposite pair k and k + 4 (E W, NE SW, N S, NW SE).
+  static constexpr int kDx[8] = {1, 1, 0, -1, -1, -1, 0, 1};
+  static constexpr int kDy[8] = {0, 1, 1, 1, 0, -1, -1, -1};
+  bool ground[8];
+  double lo = INFINITY, hi = -INFINITY;
+  for (int k = 0; k < 8; ++k) {
+    const long u = x + kDx[k], v = y + kDy[k];
+    ground[k] = u >= 0 && u < nx && v >= 0 && v < ny && known_[static_cast<std::size_t>(v * nx + u)];
+    if (!ground[k]) continue;
+    const double z = cells_[static_cast<std::size_t>(v * nx + u)];
+    lo = std::min(lo, z), hi = std::max(hi, z);
+  }
+  const bool between = (ground[0] && ground[4]) || (ground[1] && ground[5]) ||
+                       (ground[2] && ground[6]) || (ground[3] && ground[7]);
+  // One cell's height: the grid's own resolution in z (a floor between two cells' tops).
+  if (!between || hi - lo > resolution_ * (1.0 + 1e-6)) return false;
+  h = hi;
+  return true;
+}
+
 Slope HeightMap::slope(double x, double y) const {
   if (nx_ == 0) return {};
   const double d = resolution_;

@@ -14,6 +14,16 @@
 // space). They read as the ground default (terrain.ground_height), as does everything off the
 // map, and known(x, y) is false there: the footholds keep off them where they can.
 //
+// One-column holes are filled: a column without ground whose neighbours on two opposite sides
+// (left and right, front and back, or a diagonal pair) have ground, all its neighbours with
+// ground agreeing within one cell's height, reads as the highest of them and is known. Why: a
+// lidar's sweep leaves lines one column wide that no ray ended in between the lines it did
+// (the simulated lidar walking at 1.2 m/s left such lines every few columns, and footholds
+// searched off them moved by 2-8 cm on flat ground). A hole between observations
+// that agree is the surface they lie on; it is never extrapolated past the observed area's
+// edge (one side only), and a hole between different heights (an edge seen from both sides)
+// stays unknown. A pit one column wide reads as the floor around it: 4 cm, less than a foot.
+//
 // Queries are nearest-cell, not interpolated: height(x, y) is the value of the column whose
 // cell contains (x, y). A step stays a step, its edge where the map has it (within one cell),
 // and a foothold is never placed on a ramp that blurring would invent between two levels.
@@ -75,12 +85,18 @@ class HeightMap {
   /// unknown columns.
   double height(double x, double y) const {
     const std::size_t i = index(x, y);
-    return i == kOff ? ground_ : cells_[i];
+    if (i == kOff) return ground_;
+    if (known_[i]) return cells_[i];
+    double h;
+    return filled(i, h) ? h : ground_;
   }
-  /// Whether the column under (x, y) was observed to have ground (false off the map).
+  /// Whether the column under (x, y) was observed to have ground, or is a filled hole (false
+  /// off the map).
   bool known(double x, double y) const {
     const std::size_t i = index(x, y);
-    return i != kOff && known_[i] != 0;
+    if (i == kOff) return false;
+    double h;
+    return known_[i] != 0 || filled(i, h);
   }
   /// Gradient of the surface at (x, y) (see the header comment); 0 on a flat map.
   Slope slope(double x, double y) const;
@@ -95,7 +111,7 @@ class HeightMap {
   std::size_t columnsY() const { return ny_; }
   double xMin() const { return xMin_; }
   double yMin() const { return yMin_; }
-  /// Columns with ground (the rest read as the ground default).
+  /// Columns observed to have ground (the rest read as the ground default).
   std::size_t knownColumns() const { return knownCount_; }
   /// No map at all: a flat floor at the ground everywhere, which a profile without a map says
   /// is there (known). A live map with nothing observed yet (cleared) is not that: it has no
@@ -112,6 +128,8 @@ class HeightMap {
       return kOff;
     return static_cast<std::size_t>(fy) * nx_ + static_cast<std::size_t>(fx);
   }
+  /// Column i (without ground) as a filled hole (see the header comment): its height in h.
+  bool filled(std::size_t i, double& h) const;
 
   double ground_ = 0.0;
   GroundRule rule_;

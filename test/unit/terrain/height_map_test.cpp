@@ -123,6 +123,44 @@ TEST(HeightMap, TheGroundDefaultOffTheMapAndWhereNothingIsKnown) {
   EXPECT_EQ(flat.normal(3.0, -4.0)[2], 1.0);
 }
 
+TEST(HeightMap, OneColumnHolesBetweenObservationsThatAgreeAreFilled) {
+  // A floor at 0 from x = 0 to 1 m and a 0.2 m box from 1 to 1.5 m (5 cm cells), observed as
+  // a sweeping lidar leaves it: every third column along x never hit.
+  constexpr double r = 0.05;
+  octomap::OcTree tree(r);
+  const auto column = [](int i) { return (i + 0.5) * r; };
+  for (int i = 0; i < 30; ++i) {
+    // A hole two columns wide in the floor as well: no ground at i = 6 (nor 7).
+    if (i % 3 == 1 || i == 6) continue;
+    for (int j = 0; j < 10; ++j) {
+      tree.updateNode(octomap::point3d(column(i), column(j), -0.025), true);
+      if (i >= 20) tree.updateNode(octomap::point3d(column(i), column(j), 0.175), true);
+    }
+  }
+  const HeightMap map = HeightMap::fromOcTree(tree, -1.0);
+  ASSERT_EQ(map.columnsX(), 30u);  // the grid's first column is i = 0
+
+  // On the floor and on the box, the lines between observed columns read as they do.
+  for (int i : {1, 4, 10, 13, 16, 22, 25, 28})
+    for (double y : {0.025, 0.225, 0.475}) {  // the side columns too: a hole between two on one row
+      EXPECT_TRUE(map.known(column(i), y)) << i << ", " << y;
+      EXPECT_NEAR(map.height(column(i), y), i >= 20 ? 0.2 : 0.0, 1e-9) << i << ", " << y;
+    }
+  EXPECT_EQ(map.knownColumns(), 190u);  // filled columns are not observed ones
+  // Two columns wide: not a line between observations.
+  EXPECT_FALSE(map.known(column(6), 0.225));
+  EXPECT_FALSE(map.known(column(7), 0.225));
+  EXPECT_EQ(map.height(column(7), 0.225), -1.0);
+  // Between the floor (i = 18) and the box (i = 20): an edge, not a surface; unknown.
+  EXPECT_FALSE(map.known(column(19), 0.225));
+  EXPECT_EQ(map.height(column(19), 0.225), -1.0);
+  // Never past the observed area: off the grid stays the default.
+  EXPECT_FALSE(map.known(-0.025, 0.225));
+  EXPECT_FALSE(map.known(column(10), -0.025));
+  // The slope across a filled line is the floor's: none.
+  EXPECT_EQ(map.slope(column(13), 0.225).dzdx, 0.0);
+}
+
 TEST(HeightMap, SlopeOfARampAndOfAStepEdge) {
   // A 45° ramp in x up to 0.5 m, 2 cm cells: one cell of rise per cell of run. (Raised by a
   // quarter cell so that no column's height falls on a cell centre, where rounding decides.)
