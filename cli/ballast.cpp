@@ -649,8 +649,9 @@ int main(int argc, char** argv) {
                   num(l["resolution"]), l["leaves"].dump().c_str(),
                   l.value("seeded_from", "").empty() ? "" : ", seeded from ",
                   l.value("seeded_from", "").c_str());
-      std::printf("  heights: %s x %s columns, %s known", h["columns"][0].dump().c_str(),
-                  h["columns"][1].dump().c_str(), h["known"].dump().c_str());
+      std::printf("  heights: %s x %s columns, %s known%s", h["columns"][0].dump().c_str(),
+                  h["columns"][1].dump().c_str(), h["known"].dump().c_str(),
+                  h.value("floor_known", false) ? " (elsewhere the profile's flat floor)" : "");
       if (h.contains("extent"))
         std::printf(", x %.2f..%.2f m, y %.2f..%.2f m", num(h["extent"][0]), num(h["extent"][2]),
                     num(h["extent"][1]), num(h["extent"][3]));

@@ -50,12 +50,9 @@ class MapTerrain final : public gait::TerrainQuery {
   /// Planner thread: the map in use (until the next refresh()).
   const terrain::HeightMap& map() const { return *current_->map; }
   double height(double x, double y) const override { return current_->map->height(x, y); }
-  /// A map's unknown columns are not known; without a map (a flat floor, no columns at all)
-  /// the floor is the ground everywhere, as the profile says. A cleared live map knows nothing.
-  bool known(double x, double y) const override {
-    const terrain::HeightMap& m = *current_->map;
-    return m.flatFloor() || m.known(x, y);
-  }
+  /// A map's unknown columns are not known; without a map file the floor is, as the profile
+  /// says (HeightMap::floorKnown). A cleared live map knows nothing it did not observe.
+  bool known(double x, double y) const override { return current_->map->known(x, y); }
 
   /// Any thread: ms from a scan's hand-off to the planner taking its map (the last one, the
   /// largest since start); -1 before any.

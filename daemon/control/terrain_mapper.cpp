@@ -152,9 +152,9 @@ void TerrainMapper::seed(const octomap::OcTree& tree, const std::string& path) {
   publish(0);
 }
 
-void TerrainMapper::clear() {
+void TerrainMapper::clear(bool floor) {
   std::lock_guard<std::mutex> lock(mutex_);
-  map_.clear();
+  map_.clear(floor);
   seeded_.clear();
   publish(0);
 }
@@ -180,6 +180,7 @@ nlohmann::json TerrainMapper::info() {
         {"known", grid.knownColumns()},
         {"ground", grid.ground()},
         {"reference", round2(grid.rule().reference)},
+        {"floor_known", grid.floorKnown()},
         {"clearance", grid.rule().clearance}}}};
   if (grid.columnsX() > 0)
     j["heights"]["extent"] = {round2(grid.xMin()), round2(grid.yMin()),

@@ -102,8 +102,10 @@ class TerrainMapper {
   /// Seeds the map with `tree` (`ballast map load`, terrain.map at start); throws
   /// terrain::MapError as HeightMap::fromOcTree does, leaving the map as it was.
   void seed(const octomap::OcTree& tree, const std::string& path);
-  /// Forgets everything: every column unknown (`ballast map clear`).
-  void clear();
+  /// Forgets everything: every column unknown (`ballast map clear`), or with `floor` the
+  /// profile's flat floor known where no scan finds ground (a profile without a map file, at
+  /// start and when switched to; LiveMap::clear).
+  void clear(bool floor = false);
   /// Writes the map (.bt); false with a message naming the file.
   bool save(const std::string& path, std::string& error);
   /// What `map info` shows of the live map.

@@ -129,7 +129,10 @@ Daemon::Daemon(const DaemonOptions& options) {
   // on and the backend has a lidar; the planner plans on its grid.
   try {
     mapper_ = std::make_unique<control::TerrainMapper>(*model_, settings_.mapping, planner_.get());
-    if (context_.map.loaded()) mapper_->seed(context_.map.tree(), context_.map.path());
+    if (context_.map.loaded())
+      mapper_->seed(context_.map.tree(), context_.map.path());
+    else
+      mapper_->clear(true);  // no map file: the profile's flat floor, known
   } catch (const terrain::MapError& e) {
     fail(problem(&settings_.mapping.map.resolution, e.what()));
   }

@@ -159,7 +159,7 @@ void Server::finishSwitch(Pending& p, bool applied, const char* message) {
           if (ctx_.map.loaded())
             ctx_.mapper->seed(ctx_.map.tree(), ctx_.map.path());
           else
-            ctx_.mapper->clear();
+            ctx_.mapper->clear(true);  // no map file: its flat floor
         } catch (const std::exception& e) {  // the tree was read and its grid built already
           spdlog::error("profile {}: the live map keeps its terrain: {}", p.profile->name(), e.what());
         }

@@ -69,6 +69,7 @@ HeightMap HeightMap::fromOcTree(const octomap::OcTree& tree, double ground, cons
   if (occupied == 0) throw fail("the map has no occupied cells");
   HeightMap map(ground);
   map.rule_ = rule;
+  map.floorKnown_ = false;  // a map: what it does not show is not known
   if (x1 <= x0) return map;  // all of it above the clearance: no ground known anywhere
   map.nx_ = static_cast<std::size_t>(x1 - x0);
   map.ny_ = static_cast<std::size_t>(y1 - y0);

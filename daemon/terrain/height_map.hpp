@@ -12,7 +12,10 @@
 //
 // Columns with no such occupied cell are unknown: nothing was observed there (or only free
 // space). They read as the ground default (terrain.ground_height), as does everything off the
-// map, and known(x, y) is false there: the footholds keep off them where they can.
+// map, and known(x, y) is false there: the footholds keep off them where they can. Unless the
+// floor is known (floorKnown()): a profile without a map file says the world is a flat floor
+// at the ground default (HeightMap(ground), and a live map grown from that), and there the
+// columns nobody observed are that floor, known; what was observed reads as observed.
 //
 // One-column holes are filled: a column without ground whose neighbours on two opposite sides
 // (left and right, front and back, or a diagonal pair) have ground, all its neighbours with
@@ -71,7 +74,7 @@ class HeightMap {
   /// 160 m × 160 m building at 8 cm, 80 m × 80 m at 4 cm.
   static constexpr std::size_t kMaxColumns = std::size_t{1} << 22;
 
-  /// A flat floor at `ground` everywhere (no map); no column is known.
+  /// A flat floor at `ground` everywhere (no map), known (floorKnown()).
   explicit HeightMap(double ground = 0.0);
   /// The grid of `tree` under `rule`. Throws MapError when the tree has no occupied cell, when
   /// its resolution is not a usable cell size, or when it would make a grid of more than
@@ -90,13 +93,13 @@ class HeightMap {
     double h;
     return filled(i, h) ? h : ground_;
   }
-  /// Whether the column under (x, y) was observed to have ground, or is a filled hole (false
-  /// off the map).
+  /// Whether the ground under (x, y) is known: observed, a filled hole, or the known floor
+  /// (see the header comment); otherwise false, off the map too.
   bool known(double x, double y) const {
     const std::size_t i = index(x, y);
-    if (i == kOff) return false;
+    if (i == kOff) return floorKnown_;
     double h;
-    return known_[i] != 0 || filled(i, h);
+    return known_[i] != 0 || floorKnown_ || filled(i, h);
   }
   /// Gradient of the surface at (x, y) (see the header comment); 0 on a flat map.
   Slope slope(double x, double y) const;
@@ -113,10 +116,9 @@ class HeightMap {
   double yMin() const { return yMin_; }
   /// Columns observed to have ground (the rest read as the ground default).
   std::size_t knownColumns() const { return knownCount_; }
-  /// No map at all: a flat floor at the ground everywhere, which a profile without a map says
-  /// is there (known). A live map with nothing observed yet (cleared) is not that: it has no
-  /// columns either, and nothing in it is known.
-  bool flatFloor() const { return nx_ == 0 && !unobserved_; }
+  /// Whether what nobody observed is the floor at the ground default, known: a profile without
+  /// a map file (a flat floor), not a file's map or a cleared live map.
+  bool floorKnown() const { return floorKnown_; }
 
  private:
   friend class LiveMap;  // keeps a mutable grid and updates it column by column
@@ -136,7 +138,7 @@ class HeightMap {
   double resolution_ = 0.0, inverseResolution_ = 0.0;
   double xMin_ = 0.0, yMin_ = 0.0;
   std::size_t nx_ = 0, ny_ = 0, knownCount_ = 0;
-  bool unobserved_ = false;  // a live map's empty grid: nothing known (not a flat floor)
+  bool floorKnown_ = true;  // HeightMap(ground) only; fromOcTree and a cleared LiveMap: false
   std::vector<double> cells_;         // row-major: ny rows of nx columns
   std::vector<std::uint8_t> known_;   // the same layout: 1 where the column has ground
 };

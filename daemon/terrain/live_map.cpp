@@ -28,7 +28,7 @@ constexpr long kGrowMargin = 64;
 }  // namespace
 
 LiveMap::LiveMap(const LiveMapSettings& settings) : settings_(settings), grid_(settings.ground) {
-  grid_.unobserved_ = true;
+  grid_.floorKnown_ = false;
   const auto fail = [](const std::string& why) { return MapError("mapping: " + why); };
   const LiveMapSettings& s = settings_;
   if (!(s.resolution >= 1e-3 && s.resolution <= 1.0))
@@ -194,10 +194,11 @@ void LiveMap::rebuild() {
   for (auto it = tree_->begin_leafs(), end = tree_->end_leafs(); it != end && !occupied; ++it)
     occupied = tree_->isNodeOccupied(*it);
   const GroundRule rule = grid_.rule_;
+  const bool floor = grid_.floorKnown_;
   grid_ = occupied ? HeightMap::fromOcTree(*tree_, settings_.ground, "", rule)
                    : HeightMap(settings_.ground);
   grid_.rule_ = rule;
-  grid_.unobserved_ = true;
+  grid_.floorKnown_ = floor;
 }
 
 void LiveMap::seed(const octomap::OcTree& tree, const std::string& path) {
@@ -209,14 +210,14 @@ void LiveMap::seed(const octomap::OcTree& tree, const std::string& path) {
   builtReference_ = grid_.rule_.reference;
 }
 
-void LiveMap::clear() {
+void LiveMap::clear(bool floor) {
   // Back to the profile's resolution (a seeded file's stays only as long as its cells).
   tree_ = std::make_unique<octomap::OcTree>(settings_.resolution);
   configureTree(*tree_);
   const GroundRule rule = grid_.rule_;
   grid_ = HeightMap(settings_.ground);
   grid_.rule_ = rule;
-  grid_.unobserved_ = true;
+  grid_.floorKnown_ = floor;
 }
 
 bool LiveMap::setReference(double z) {

@@ -88,9 +88,11 @@ class LiveMap {
   /// from then on; the grid is rebuilt. Throws MapError as HeightMap::fromOcTree does, leaving
   /// the map as it was.
   void seed(const octomap::OcTree& tree, const std::string& path = "");
-  /// Forgets everything (`ballast map clear`): every column unknown, the tree back at
-  /// settings().resolution.
-  void clear();
+  /// Forgets everything (`ballast map clear`): the tree back at settings().resolution, and
+  /// every column unknown; or, `floor`, the floor at the ground default known where no scan
+  /// finds ground (a profile without a map file, whose floor is flat: HeightMap::floorKnown).
+  /// A new LiveMap knows nothing.
+  void clear(bool floor = false);
   /// Moves the ground rule's reference (the feet's height). The grid is rebuilt from the tree
   /// when it moved by more than a quarter of the clearance since the last build; true if so.
   bool setReference(double z);

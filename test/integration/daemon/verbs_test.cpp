@@ -346,6 +346,8 @@ TEST_F(Verbs, MapLoadAndInfo) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("file map: none"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("live map: "), std::string::npos) << r.out;
+  // sim-flat has no map file: its flat floor is known where the lidar has not looked.
+  EXPECT_NE(r.out.find("(elsewhere the profile's flat floor)"), std::string::npos) << r.out;
   octomap::OcTree tree(0.05);
   for (double x = 0; x < 1; x += 0.05)
     for (double y = 0; y < 1; y += 0.05) tree.updateNode(octomap::point3d(x, y, 0.1), true);
@@ -379,6 +381,7 @@ TEST_F(Verbs, MapLoadAndInfo) {
   // come): saved, it reads back with at least the slab's columns.
   r = cli({"--json", "map", "info"});
   EXPECT_EQ(r.parsed()["live"]["seeded_from"], map) << r.out;
+  EXPECT_EQ(r.parsed()["live"]["heights"]["floor_known"], false) << r.out;  // the file's map
   EXPECT_GE(r.parsed()["live"]["heights"]["known"].get<std::size_t>(), tree.getNumLeafNodes());
   const std::string saved = (dir_ / "saved.bt").string();
   r = cli({"map", "save", saved});
@@ -388,6 +391,7 @@ TEST_F(Verbs, MapLoadAndInfo) {
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("file map: none"), std::string::npos) << r.out;
   EXPECT_EQ(r.out.find("seeded from"), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("flat floor"), std::string::npos) << r.out;  // cleared: nothing known
   r = cli({"--json", "map", "load", saved});
   ASSERT_EQ(r.status, 0) << r.err << r.out;
   EXPECT_GE(r.parsed()["live"]["heights"]["known"].get<std::size_t>(), tree.getNumLeafNodes());

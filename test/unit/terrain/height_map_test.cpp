@@ -117,7 +117,11 @@ TEST(HeightMap, TheGroundDefaultOffTheMapAndWhereNothingIsKnown) {
   EXPECT_FALSE(blocks.known(0.53, 0.01));  // free only: observed, but no ground seen
   EXPECT_FALSE(blocks.known(5.0, 0.2));   // off the grid
 
-  const HeightMap flat(0.2);
+  EXPECT_FALSE(blocks.floorKnown());
+
+  const HeightMap flat(0.2);  // no map: a flat floor the profile says is there, known
+  EXPECT_TRUE(flat.floorKnown());
+  EXPECT_TRUE(flat.known(3.0, -4.0));
   EXPECT_EQ(flat.height(3.0, -4.0), 0.2);
   EXPECT_EQ(flat.slope(3.0, -4.0).dzdx, 0.0);
   EXPECT_EQ(flat.normal(3.0, -4.0)[2], 1.0);

@@ -107,6 +107,34 @@ TEST(LiveMap, AScanMakesTheFloorAndTheBoxAndTheColumnsMatchAFullBuild) {
   expectSameGrid(live);
 }
 
+TEST(LiveMap, WithoutAMapFileTheFloorIsKnownWhereNoScanFoundGround) {
+  // A profile without a map file says the world is a flat floor (here at the ground default,
+  // -1): the live map grown from it knows that floor where the lidar has not looked, and what
+  // the lidar saw where it did.
+  LiveMap live(settings());
+  EXPECT_FALSE(live.grid().floorKnown());  // new: nothing known
+  EXPECT_FALSE(live.grid().known(0.0, 0.0));
+  live.clear(true);
+  EXPECT_TRUE(live.grid().known(0.0, 0.0));
+  EXPECT_TRUE(live.heights()->known(30.0, -7.0));
+  EXPECT_EQ(live.heights()->height(30.0, -7.0), -1.0);
+  const auto p = scan(World{}, {0.0, 0.0, 1.2});
+  live.insert(p.data(), static_cast<int>(p.size() / 3), {}, {0.0, 0.0, 1.2});
+  const auto heights = live.heights();
+  EXPECT_NEAR(heights->height(0.6, 0.0), 0.0, 1e-9);   // seen: the floor where it is
+  EXPECT_NEAR(heights->height(1.1, 0.0), 0.15, 0.04);  // seen: the box
+  for (const auto& [x, y] : {std::pair{1.6, 0.0}, {0.0, 0.0}, {20.0, 0.0}}) {
+    EXPECT_TRUE(heights->known(x, y)) << x;  // the box's shadow, under the sensor, far off
+    EXPECT_EQ(heights->height(x, y), -1.0) << x;
+  }
+  // A rebuild (the feet moved up) keeps it; `map clear` knows nothing again.
+  EXPECT_TRUE(live.setReference(0.2));
+  EXPECT_TRUE(live.grid().known(1.6, 0.0));
+  live.clear();
+  EXPECT_FALSE(live.grid().known(1.6, 0.0));
+  EXPECT_FALSE(live.heights()->known(30.0, -7.0));
+}
+
 TEST(LiveMap, RaysClearWhatIsNoLongerThere) {
   LiveMap live(settings());
   World w;
