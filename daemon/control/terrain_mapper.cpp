@@ -3,8 +3,14 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <pthread.h>
+#include <sched.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <cmath>
+#include <cstring>
 #include <ctime>
 
 #include <octomap/OcTree.h>
@@ -41,9 +47,10 @@ TerrainMapper::~TerrainMapper() {
   sem_destroy(&wake_);
 }
 
-void TerrainMapper::start() {
+void TerrainMapper::start(bool background) {
   if (thread_.joinable()) return;
   stop_ = false;
+  background_ = background;
   thread_ = std::thread([this] { run(); });
 }
 
@@ -69,6 +76,16 @@ void TerrainMapper::waitFor(std::uint64_t index) {
 }
 
 void TerrainMapper::run() {
+  pthread_setname_np(pthread_self(), "ballast-mapping");
+  if (background_) {
+    // A daemon started under chrt would hand its real-time policy to this thread too: back to
+    // the normal policy first, then the lowest normal priority. Raising one's nice needs no
+    // privilege, so this holds wherever ballastd runs.
+    sched_param normal{};
+    pthread_setschedparam(pthread_self(), SCHED_OTHER, &normal);
+    if (setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), kBackgroundNice) != 0)
+      spdlog::warn("mapping thread: nice {} refused: {}", kBackgroundNice, std::strerror(errno));
+  }
   while (true) {
     while (sem_wait(&wake_) != 0 && errno == EINTR) {
     }

@@ -13,6 +13,14 @@
 // the newest slot (a scan it had no time for is skipped and counted), inserts it and publishes
 // the grid. Scans in the world frame (ABI kWorld) are inserted as they are.
 //
+// Real time: the mapping thread is background work at the lowest normal priority (nice 19). An
+// insertion takes 20-60 ms of CPU per scan on an idle host, and at 10 scans a second it would
+// take a third of a core to all of it on a loaded one; beside the loop and the planner (real-time
+// priority when the host grants it, normal otherwise, as on CI and in containers) and the
+// planner's linearisation team it must only take what they leave. A map that comes late is
+// seen (scans skipped, the scan-to-planner latency in `map info`); a plan that comes late damps
+// the robot.
+//
 // Lockstep (deterministic, as the planner's slot is): the map of a scan handed off at t_k is
 // due at t_k + mapping.latency; the loop waits for it then if it is not there yet and from then
 // on asks the planner for the map of scans up to k (PlannerInput::map_scan), so a run is the
@@ -77,6 +85,9 @@ struct LidarScan {
 
 class TerrainMapper {
  public:
+  /// The mapping thread's nice in real time: the lowest normal priority.
+  static constexpr int kBackgroundNice = 19;
+
   /// Throws terrain::MapError for mapping settings OctoMap cannot use.
   TerrainMapper(const model::Model& model, const MappingSettings& settings, MpcPlanner* planner);
   ~TerrainMapper();
@@ -84,8 +95,10 @@ class TerrainMapper {
   TerrainMapper& operator=(const TerrainMapper&) = delete;
 
   const MappingSettings& settings() const { return settings_; }
-  /// Starts the mapping thread (scans handed off before are inserted then).
-  void start();
+  /// Starts the mapping thread (scans handed off before are inserted then). `background`: real
+  /// time, at nice 19 (see the header comment); lockstep keeps the normal priority, as the loop
+  /// waits for the map there.
+  void start(bool background = false);
   void stop();
 
   // ---- control thread (single producer) ----
@@ -122,6 +135,7 @@ class TerrainMapper {
   TripleBuffer<LidarScan> scans_;
   sem_t wake_;
   std::atomic<bool> stop_{false};
+  bool background_ = false;
   std::thread thread_;
   std::atomic<std::uint64_t> done_{0}, handed_{0};
 

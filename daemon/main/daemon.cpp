@@ -138,7 +138,7 @@ Daemon::Daemon(const DaemonOptions& options) {
   }
   if (settings_.mapping.enabled && caps.lidar) {
     loop_->attachMapper(mapper_.get());
-    mapper_->start();
+    mapper_->start(!options.lockstep);
   }
   context_.mapper = mapper_.get();
   writer_ = std::make_unique<control::TelemetryWriter>(loop_->telemetryRing(), loop_->jointNames());

@@ -4,8 +4,14 @@
 // and measures the scan-to-planner latency.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+
+#include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
 #include <thread>
 
 #include <octomap/OcTree.h>
@@ -128,6 +134,48 @@ TEST(TerrainMapper, AScanInALinkTheModelLacksIsRefusedAndSaid) {
   const nlohmann::json info = mapper.info();
   EXPECT_EQ(info["heights"]["known"], 0);
   EXPECT_NE(info.value("problem", "").find("'velodyne'"), std::string::npos) << info.dump();
+}
+
+/// The nice of this process's thread named `name` (/proc/self/task), or -100 if none is.
+int niceOfThread(const std::string& name) {
+  for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
+    std::ifstream comm(task.path() / "comm");
+    std::string n;
+    std::getline(comm, n);
+    if (n != name) continue;
+    errno = 0;
+    const int nice = getpriority(PRIO_PROCESS, static_cast<id_t>(std::stoi(task.path().filename())));
+    return errno == 0 ? nice : -100;
+  }
+  return -100;
+}
+
+int niceOfMappingThreadWhenStarted(TerrainMapper& mapper, bool background) {
+  mapper.start(background);
+  // The thread names itself and sets its priority first; it is then waiting for a scan.
+  int nice = -100;
+  for (int i = 0; i < 2000; ++i) {
+    nice = niceOfThread("ballast-mapping");
+    if (nice != -100 && (!background || nice == TerrainMapper::kBackgroundNice)) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  mapper.stop();
+  return nice;
+}
+
+// Real time: the mapping thread takes only the CPU the loop, the planner and its team leave
+// (nice 19), whatever the priority of the thread that starts it; lockstep, where the loop
+// waits for its maps, keeps the normal priority.
+TEST(TerrainMapper, InRealTimeTheMappingThreadRunsAtTheLowestNormalPriority) {
+  const model::Model& m = test::humanoid();
+  errno = 0;
+  const int own = getpriority(PRIO_PROCESS, 0);
+  ASSERT_EQ(errno, 0);
+  ASSERT_LT(own, TerrainMapper::kBackgroundNice) << "the test runs at nice 19 already";
+  TerrainMapper lockstep(m, MappingSettings{}, nullptr);
+  EXPECT_EQ(niceOfMappingThreadWhenStarted(lockstep, false), own);
+  TerrainMapper realtime(m, MappingSettings{}, nullptr);
+  EXPECT_EQ(niceOfMappingThreadWhenStarted(realtime, true), TerrainMapper::kBackgroundNice);
 }
 
 }  // namespace
