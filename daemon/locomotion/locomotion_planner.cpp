@@ -79,11 +79,35 @@ LocomotionPlanner::LocomotionPlanner(const model::Model& model, const Locomotion
   model::compositeWorldInertias(model, data_);
   settings_.swing.comHeight = data_.com.z() - sole;
   swings_ = gait::SwingPlanner(settings_.swing, stance_);
-  problem_ = std::make_unique<mpc::KinodynamicProblem>(model, frames_, settings_.problem);
+  if (settings_.model == PlannerModel::kSingleRigidBody) {
+    mpc::ProblemSettings p = settings_.problem;
+    const int n = mpc::SingleRigidBodyProblem::kStateSize, m = mpc::SingleRigidBodyProblem::kInputSize;
+    p.stateWeights = settings_.problem.stateWeights.head(n);
+    p.inputWeights = settings_.problem.inputWeights.head(m);
+    problem_ = std::make_unique<mpc::SingleRigidBodyProblem>(
+        nominalBody(model, settings_.nominalJoints), p);
+  } else {
+    problem_ = std::make_unique<mpc::KinodynamicProblem>(model, frames_, settings_.problem);
+  }
   sqp_ = std::make_unique<mpc::SqpSolver>(*problem_, settings_.sqp);
 }
 
 LocomotionPlanner::~LocomotionPlanner() = default;
+
+mpc::RigidBody LocomotionPlanner::nominalBody(const model::Model& model,
+                                              const Eigen::VectorXd& nominalJoints) {
+  model::Data<double> data(model);
+  Eigen::VectorXd q = model::neutralConfiguration(model);  // base at the origin: world = base
+  q.tail(model.nj()) = nominalJoints;
+  model::forwardKinematics(model, data, q);
+  model::compositeWorldInertias(model, data);
+  mpc::RigidBody body;
+  body.mass = model.totalMass();
+  body.inertia = data.oYcrb[0].inertiaAboutCom();
+  body.com = data.com;
+  body.gravity = model.gravity;
+  return body;
+}
 
 Eigen::VectorXd LocomotionPlanner::measuredState(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
   const CentroidalLayout L{model_.nj(), kNumContacts};
@@ -210,7 +234,17 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
   swings_.update(schedule_, gaitState, planarCommand(command), horizon, terrain_);
 
   fillReferences(t, start, command);
-  const bool ok = sqp_->iterate(t, x);
+  bool ok;
+  if (settings_.model == PlannerModel::kSingleRigidBody) {
+    // The rigid body's own rotation: the base's angular velocity through the body's inertia.
+    // The centroidal angular momentum would count the swinging legs' as the body's turning.
+    Eigen::VectorXd xs = x.head(problem_->nx());
+    const mpc::RigidBody& body = static_cast<const mpc::SingleRigidBodyProblem&>(*problem_).body();
+    xs.segment<3>(3) = R * body.inertia * v.segment<3>(3);
+    ok = sqp_->iterate(t, xs);
+  } else {
+    ok = sqp_->iterate(t, x);
+  }
   if (!ok) return false;
 
   const mpc::MpcSolution& s = sqp_->solution();
@@ -218,12 +252,22 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
   plan.t0 = s.t0;
   plan.dt = s.dt;
   plan.nodes = s.nodes();
-  plan.nx = problem_->nx();
-  plan.nu = problem_->nu();
-  for (int k = 0; k <= plan.nodes; ++k)
-    Eigen::Map<Eigen::VectorXd>(plan.x[k], plan.nx) = s.x[k];
-  for (int k = 0; k < plan.nodes; ++k)
-    Eigen::Map<Eigen::VectorXd>(plan.u[k], plan.nu) = s.u[k];
+  // In the kino-dynamic layout whatever the problem: a single rigid body's joints stay at the
+  // nominal posture, not moving.
+  const CentroidalLayout L{model_.nj(), kNumContacts};
+  plan.nx = L.nx();
+  plan.nu = L.nu();
+  const int nx = problem_->nx(), nu = problem_->nu();
+  for (int k = 0; k <= plan.nodes; ++k) {
+    Eigen::Map<Eigen::VectorXd> xk(plan.x[k], plan.nx);
+    xk.head(nx) = s.x[k];
+    if (nx < plan.nx) xk.tail(plan.nx - nx) = settings_.nominalJoints;
+  }
+  for (int k = 0; k < plan.nodes; ++k) {
+    Eigen::Map<Eigen::VectorXd> uk(plan.u[k], plan.nu);
+    uk.head(nu) = s.u[k];
+    uk.tail(plan.nu - nu).setZero();
+  }
   plan.schedule = schedule_;
   plan.swings = swings_;
   plan.walking = command.walk;
@@ -301,8 +345,10 @@ void LocomotionPlanner::fillReferences(double t, const gait::PlanarPose& start,
     for (int c = 0; c < kNumContacts; ++c) {
       r.stance[c] = flags[c];
       stanceCount += flags[c];
-      if (!flags[c]) {  // at the interval's middle, where the problem evaluates the swing
-        const gait::PointReference p = swings_.reference(c, tk + 0.5 * dt);
+      // At the interval's middle, where the problems evaluate the swing and the lever arms.
+      const gait::PointReference p = swings_.reference(c, tk + 0.5 * dt);
+      r.contactPosition[c] = p.position;
+      if (!flags[c]) {
         r.swingPosition[c] = p.position;
         r.swingVelocity[c] = p.velocity;
       }
@@ -317,9 +363,10 @@ void LocomotionPlanner::fillReferences(double t, const gait::PlanarPose& start,
         Eigen::Vector3d(pose.position.x(), pose.position.y(),
                         terrain_.height(pose.position.x(), pose.position.y()) + height);
     r.x.segment<3>(L.kBaseZyx) = Eigen::Vector3d(pose.yaw, command.pitch, command.roll);
-    r.x.segment(L.kJoints, model_.nj()) =
-        !command.walk && command.standingJoints.size() == model_.nj() ? command.standingJoints
-                                                                       : settings_.nominalJoints;
+    if (r.x.size() == L.nx())  // the single rigid body has no joints
+      r.x.segment(L.kJoints, model_.nj()) =
+          !command.walk && command.standingJoints.size() == model_.nj() ? command.standingJoints
+                                                                         : settings_.nominalJoints;
     // The push in the dynamics goes with the capture point's footholds: with the paper's, the
     // estimate's model errors (10-20 N walking at 1 m/s) made walking fall.
     r.externalForce = swings_.parameters().rule == gait::FootholdRule::kCapturePoint

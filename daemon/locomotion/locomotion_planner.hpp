@@ -25,9 +25,16 @@
 // the capture point's footholds and the base reference where the base is, until the point is
 // back inside and the body slow; Plan::recovering says so meanwhile.
 // Cost weights are given per physical quantity (CostWeights) and turned into Q and R here.
+//
+// The MPC's model (LocomotionSettings::model): the paper's kino-dynamic problem, or the
+// single-rigid-body one of its cI (mpc/single_rigid_body_problem.hpp: the robot at its nominal
+// posture as one body). The latter's state and input are the kino-dynamic ones' first 12 entries,
+// so the references, the measured state and the Plan keep one layout: its plans carry the
+// nominal posture as the joints and zero joint velocities.
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -38,6 +45,7 @@
 #include "locomotion/plan.hpp"
 #include "model/data.hpp"
 #include "mpc/kinodynamic_problem.hpp"
+#include "mpc/single_rigid_body_problem.hpp"
 #include "mpc/sqp_solver.hpp"
 
 namespace ballast::locomotion {
@@ -57,8 +65,15 @@ struct CostWeights {
   double armJointVelocity;          ///< (rad/s)⁻²
 };
 
+/// What the MPC predicts the robot with (planner.model).
+enum class PlannerModel : std::uint8_t {
+  kKinodynamic,     ///< centroidal dynamics with full kinematics (the paper's, cH and cNH)
+  kSingleRigidBody, ///< one rigid body at the nominal posture, convex (the paper's cI)
+};
+
 /// Filled by the profile (gait.*, planner.*) and, for the robot's part, from the model.
 struct LocomotionSettings {
+  PlannerModel model = PlannerModel::kKinodynamic;
   std::array<std::string, kNumContacts> contactFrames;
   Eigen::VectorXd nominalJoints;        ///< nj; nominal posture (legs bent, arms hanging)
   std::vector<bool> armJoint;           ///< nj; true for arm joints (their own weights)
@@ -119,14 +134,17 @@ class LocomotionPlanner {
   /// lean into it (gait/step_adjustment.hpp).
   void setExternalForce(const Eigen::Vector3d& force) { externalForce_ = force; }
 
+  /// The single-rigid-body problem's body: the robot at the nominal posture.
+  static mpc::RigidBody nominalBody(const model::Model& model, const Eigen::VectorXd& nominalJoints);
+
   const mpc::SqpStatistics& statistics() const { return sqp_->statistics(); }
   const LocomotionSettings& settings() const { return settings_; }
   /// The contact points' positions in the nominal stance, relative to the base (heading frame).
   const std::array<Eigen::Vector3d, kNumContacts>& nominalStance() const { return stance_; }
   /// The velocity the plan follows now: the operator's, slewed (see maxAcceleration).
   const gait::VelocityCommand& commandedVelocity() const { return velocity_; }
-  /// The MPC state for (q, v): h = A(q)v, base position, ZYX angles (yaw continued from the
-  /// previous call), joints.
+  /// The kino-dynamic MPC state for (q, v): h = A(q)v, base position, ZYX angles (yaw continued
+  /// from the previous call), joints (the single-rigid-body MPC takes its first 12 entries).
   Eigen::VectorXd measuredState(const Eigen::VectorXd& q, const Eigen::VectorXd& v);
 
  private:
@@ -145,7 +163,7 @@ class LocomotionPlanner {
   std::array<int, kNumContacts> frames_{};
   std::array<Eigen::Vector3d, kNumContacts> stance_{};
   model::Data<double> data_;
-  std::unique_ptr<mpc::KinodynamicProblem> problem_;
+  std::unique_ptr<mpc::OptimalControlProblem> problem_;
   std::unique_ptr<mpc::SqpSolver> sqp_;
   gait::ContactSchedule schedule_;
   gait::SwingPlanner swings_;

@@ -1,5 +1,6 @@
 // What the SQP solver needs from a problem: node values and linearisations, and the terminal
-// cost. KinodynamicProblem is the paper's; tests use small linear ones.
+// cost. KinodynamicProblem is the paper's, SingleRigidBodyProblem its cI's; tests use small
+// linear ones.
 #pragma once
 
 #include <Eigen/Core>
@@ -20,6 +21,9 @@ struct NodeReference {
   StanceFlags stance{true, true, true, true};
   std::array<Eigen::Vector3d, kNumContacts> swingPosition{};  ///< p*(t), swing points only
   std::array<Eigen::Vector3d, kNumContacts> swingVelocity{};  ///< ṗ*(t)
+  /// Where the gait puts every point at the node (world): its stance position, or on its swing
+  /// trajectory. The single-rigid-body problem's lever arms; the kino-dynamic one has its own.
+  std::array<Eigen::Vector3d, kNumContacts> contactPosition{};
   Eigen::VectorXd x, u;  ///< x_ref, u_ref
   /// A known external force on the robot at its centre of mass (world, N): a push the state
   /// estimator sees, taken to go on over the horizon. It adds to the rate of linear momentum.

@@ -109,6 +109,7 @@ const Schema<Settings> kTable({
   number("gait.foothold_lead", "0.05", 0, 0.5, "m", "footholds are planned from the measured base moved toward the commanded one by at most this").into<&S::control, &C::locomotion, &L::footholdLead>(),
 
   // ---- planner: the kino-dynamic MPC (daemon/mpc, daemon/locomotion)
+  choice("planner.model", "kinodynamic", "kinodynamic|single_rigid_body", "what the MPC predicts with: centroidal dynamics with full kinematics (the paper's), or the robot as one rigid body at the nominal posture, a convex MPC (the paper's cI; daemon/mpc/single_rigid_body_problem.hpp)").into<&S::control, &C::locomotion, &L::model>(),
   number("planner.rate", "100", 10, 1000, "Hz", "planner rate, controller time").needsRestart().into<&S::control, &C::planner_rate>(),
   number("planner.latency", "0.005", 0, 0.1, "s", "lockstep: a plan is used this long (controller time) after the state it starts from, as a real-time solve's delay (at most 1 / planner.rate); real time uses each plan when it arrives").needsRestart().into<&S::control, &C::planner_latency>(),
   R{"planner.latency", [](const S& s) -> std::string {
@@ -170,7 +171,7 @@ const Schema<Settings> kTable({
   number("planner.swing_position_gain", "20", 0, 1e3, "1/s", "swing contact points: velocity = reference velocity + this gain times the position error").into<&S::control, &C::locomotion, &L::problem, &P::swingPositionGain>(),
 
   // ---- wbc: the whole-body controller (daemon/wbc; wbc/settings.hpp)
-  choice("wbc.variant", "hierarchical", "hierarchical|weighted", "strict priorities (the paper's cH) or one weighted QP (cNH)").into<&S::control, &C::wbc, &W::variant>(),
+  choice("wbc.variant", "hierarchical", "hierarchical|weighted|inverse_dynamics", "strict priorities (the paper's cH), one weighted QP (cNH), or that QP with the arms held at the plan's joint positions (cI's inverse dynamics)").into<&S::control, &C::wbc, &W::variant>(),
   text("wbc.base_frame", "pelvis", "URDF link whose pose and twist the base task tracks; on the floating base").into<&S::control, &C::wbc, &W::baseFrame>(),
   strings("wbc.joint_space_joints", "[arms]", "joints tracked in joint space at priority 2 (the legs follow their feet): URDF joints or joint group names").into<&S::joints, &J::joint_space>(),
   number("wbc.swing_kp", "400", 0, 1e5, "1/s^2", "priority 2: swing contact point tracking stiffness (world frame)").into<&S::control, &C::wbc, &W::swingKp>(),
@@ -181,9 +182,9 @@ const Schema<Settings> kTable({
   numbers("wbc.base_kd", "[40, 40, 40, 40, 40, 40]", 0, 1e4, "1/s", "priority 3: base tracking damping, [x y z linear; x y z angular] (world)").ofLength(6).into<&S::control, &C::wbc, &W::baseKd>(),
   number("wbc.friction_coefficient", "0.6", 0.01, 10, "", "priority 1: friction pyramid coefficient").into<&S::control, &C::wbc, &W::frictionCoefficient>(),
   number("wbc.torque_limit_scale", "1", 0.1, 1, "", "priority 1: fraction of the URDF effort limits the controller may command").into<&S::joints, &J::torque_limit_scale>(),
-  number("wbc.limb_weight", "100", 0, 1e9, "", "weighted variant: weight of the limb tasks").into<&S::control, &C::wbc, &W::limbWeight>(),
-  number("wbc.base_weight", "10", 0, 1e9, "", "weighted variant: weight of the base task").into<&S::control, &C::wbc, &W::baseWeight>(),
-  number("wbc.contact_force_weight", "0.001", 0, 1e9, "", "weighted variant: weight of the contact-force task").into<&S::control, &C::wbc, &W::contactForceWeight>(),
+  number("wbc.limb_weight", "100", 0, 1e9, "", "weighted and inverse_dynamics variants: weight of the limb tasks").into<&S::control, &C::wbc, &W::limbWeight>(),
+  number("wbc.base_weight", "10", 0, 1e9, "", "weighted and inverse_dynamics variants: weight of the base task").into<&S::control, &C::wbc, &W::baseWeight>(),
+  number("wbc.contact_force_weight", "0.001", 0, 1e9, "", "weighted and inverse_dynamics variants: weight of the contact-force task").into<&S::control, &C::wbc, &W::contactForceWeight>(),
   number("wbc.regularization", "1e-8", 1e-15, 0.01, "", "added to the diagonal of every level's Hessian (scaled units)").into<&S::control, &C::wbc, &W::regularization>(),
   integer("wbc.max_qp_iterations", "200", 1, 100000, "", "active-set iterations per QP before it gives up").into<&S::control, &C::wbc, &W::maxQpIterations>(),
   number("wbc.motor_kp", "20", 0, 5000, "N·m/rad", "stand and walk under the whole-body controller: the motors' PD stiffness around its joint targets (its torques do the work)").into<&S::control, &C::wbc_motor_kp>(),

@@ -12,6 +12,7 @@ const char* toString(WbcVariant variant) {
   switch (variant) {
     case WbcVariant::kHierarchical: return "hierarchical";
     case WbcVariant::kWeighted: return "weighted";
+    case WbcVariant::kInverseDynamics: return "inverse_dynamics";
   }
   return "unknown";
 }

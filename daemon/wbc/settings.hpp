@@ -1,6 +1,6 @@
 // Settings of the whole-body controller: which model frames and joints the tasks use, the task
 // gains, the friction coefficient and torque limits, and the variant (the paper's hierarchical
-// cH or the weighted single QP cNH). Filled by the profile schema (daemon/profile/schema.cpp:
+// cH, the weighted single QP cNH, or cI's inverse dynamics). Filled by the profile schema (daemon/profile/schema.cpp:
 // every key's bounds and default); validateSettings() checks them against the model.
 //
 // Units: SI. Gains act on errors in the world frame (task space) or in joint space:
@@ -22,6 +22,10 @@ namespace ballast::wbc {
 enum class WbcVariant : std::uint8_t {
   kHierarchical,  ///< cH: Table I priorities, each level in the null space of those above
   kWeighted,      ///< cNH: priority 1 as constraints, tasks 2–4 in one weighted QP
+  /// cI (the paper's inverse-dynamics tracking of a single-rigid-body plan): one weighted QP as
+  /// kWeighted, with the joint-space joints held at their reference positions (zero reference
+  /// velocity and acceleration: the plan's limbs do not move).
+  kInverseDynamics,
 };
 const char* toString(WbcVariant variant);
 
@@ -48,7 +52,8 @@ struct WbcSettings {
   /// |τ_j| ≤ torqueLimit[j], in the model's joint order; empty: the URDF effort limits.
   std::vector<double> torqueLimit;
 
-  // The weighted variant: weights of the squared task errors (limb, base, contact force).
+  // The weighted and inverse-dynamics variants: weights of the squared task errors (limb, base,
+  // contact force).
   double limbWeight;
   double baseWeight;
   double contactForceWeight;

@@ -292,11 +292,15 @@ void WholeBodyController::buildTasks(const WbcState& state, const WbcReference& 
                                contactBias_.segment<3>(3 * i);
       row += 3;
     }
+    // Inverse dynamics (cI) holds these joints where the plan puts them: its plan has no limb
+    // motion to feed forward.
+    const bool held = settings_.variant == WbcVariant::kInverseDynamics;
     for (int j : jointSpaceJoints_) {
       rows.A(row, model::Model::vIndexOfJoint(j)) = 1.0;
-      rows.b[row] = ref.jointAcceleration[j] +
+      const double referenceVelocity = held ? 0.0 : ref.jointVelocity[j];
+      rows.b[row] = (held ? 0.0 : ref.jointAcceleration[j]) +
                     settings_.jointKp * (ref.jointPosition[j] - q_[model::Model::qIndexOfJoint(j)]) +
-                    settings_.jointKd * (ref.jointVelocity[j] - state.v[model::Model::vIndexOfJoint(j)]);
+                    settings_.jointKd * (referenceVelocity - state.v[model::Model::vIndexOfJoint(j)]);
       ++row;
     }
   }

@@ -112,11 +112,10 @@ namespace {
 /// is reported as counters (ms per iteration, averaged): linearisation and projection (the
 /// parallel pass over the nodes, its wall time split by the CPU time of each), Riccati sweep,
 /// line search.
-void BM_MpcIteration(benchmark::State& st) {
+void mpcIteration(benchmark::State& st, const char* profilePath) {
   using namespace ballast;
   const model::Model& m = robot();
-  const profile::Profile p =
-      profile::Profile::load(std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat.yaml");
+  const profile::Profile p = profile::Profile::load(std::string(BALLAST_SOURCE_DIR) + profilePath);
   const control::ControlSettings settings = profile::buildSettings(p, m);
   const gait::FlatTerrain ground;
   locomotion::LocomotionPlanner planner(m, settings.locomotion, ground);
@@ -168,6 +167,14 @@ void BM_MpcIteration(benchmark::State& st) {
   st.counters["failures"] = failures;
   st.counters["nodes"] = settings.locomotion.sqp.nodes;
 }
+void BM_MpcIteration(benchmark::State& st) { mpcIteration(st, "/profiles/sim-flat.yaml"); }
 BENCHMARK(BM_MpcIteration)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// The same for the paper's cI planner (planner.model single_rigid_body, profiles/study/cI.yaml):
+/// the convex MPC of one rigid body on the same grid, gait and threads.
+void BM_MpcIterationSingleRigidBody(benchmark::State& st) {
+  mpcIteration(st, "/profiles/study/cI.yaml");
+}
+BENCHMARK(BM_MpcIterationSingleRigidBody)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace

@@ -114,7 +114,7 @@ safety:
   ASSERT_EQ(p.size(), 6u) << testing::PrintToString(p);
   EXPECT_EQ(p[0], path + ":3:9: control.rate: expected a number, got 'fast'");
   EXPECT_EQ(p[1], path + ":4:22: control.stand_up_duration: 100 is out of range [0.1, 30] s");
-  EXPECT_EQ(p[2], path + ":6:12: wbc.variant: expected one of hierarchical|weighted, got 'tiered'");
+  EXPECT_EQ(p[2], path + ":6:12: wbc.variant: expected one of hierarchical|weighted|inverse_dynamics, got 'tiered'");
   EXPECT_EQ(p[3],
             path + ":8:23: planner.q_base_orientation: expected a list of 3 numbers, got a list of 2");
   EXPECT_EQ(p[4], path + ":11:3: gait.period: given twice (first at " + path + ":10:3)");

@@ -196,6 +196,37 @@ TEST(Wbc, LimbsOverBaseWhenTheyConflict) {
   }
 }
 
+TEST(Wbc, InverseDynamicsIsTheWeightedQpWithTheArmsHeld) {
+  // cI's tracking: the weighted QP, its joint-space joints asked back to their reference
+  // positions with no reference velocity or acceleration (its plan's limbs do not move).
+  const model::Model& m = humanoid();
+  WbcSettings settings = wbcSettings();
+  settings.variant = WbcVariant::kInverseDynamics;
+  WholeBodyController inverseDynamics(m, settings);
+  settings.variant = WbcVariant::kWeighted;
+  WholeBodyController weighted(m, settings);
+  WbcReference ref = inverseDynamics.makeReference();
+  std::mt19937 rng(23);
+  for (const std::vector<bool>& stance :
+       {std::vector<bool>{true, true, true, true}, std::vector<bool>{true, true, false, false}}) {
+    ref.stance = stance;
+    const ConsistentMotion c = consistentMotion(m, contactFrameIds(m, settings), ref.stance, rng);
+    consistentReferences(m, inverseDynamics, c, ref);
+    ASSERT_GT(ref.jointVelocity.norm() + ref.jointAcceleration.norm(), 0.1);
+    const WbcState state = stateOf(c);
+    WbcOutput held = inverseDynamics.makeOutput(), plain = weighted.makeOutput();
+    ASSERT_NE(inverseDynamics.update(state, ref, held), WbcStatus::kInvalidInput);
+    WbcReference still = ref;
+    still.jointVelocity.setZero();
+    still.jointAcceleration.setZero();
+    ASSERT_NE(weighted.update(state, still, plain), WbcStatus::kInvalidInput);
+    EXPECT_LT((held.acceleration - plain.acceleration).norm(), 1e-9);
+    EXPECT_LT((held.contactForce - plain.contactForce).norm(), 1e-6);
+    EXPECT_LT((held.jointTorque - plain.jointTorque).norm(), 1e-6);
+    expectPhysicallyConsistent(m, inverseDynamics, state, ref, held);
+  }
+}
+
 TEST(Wbc, WeightedVariantTradesLimbErrorForBase) {
   // The same conflict under cNH: limb tracking is no longer exact (the paper's point).
   const model::Model& m = humanoid();

@@ -1,0 +1,56 @@
+// The stage-cost terms the kino-dynamic and the single-rigid-body problems share, so that the
+// paper's cH/cNH and its cI differ in their dynamics and nothing else: the quadratic tracking
+// cost with the ZYX angles' error wrapped, the stance points' friction cone and normal-force
+// bounds as relaxed barriers (eq. ic_friction_cone, ic_fz_max), the terminal cost, and the warm
+// start's inputs across a contact-mode change.
+//
+// Layouts: both problems' states begin [h_com (6), p_b (3), zyx_b (3)] and their inputs
+// [f_c1..f_c4 (12, world)]; the weights are the problem's diagonal Q and R (ProblemSettings).
+#pragma once
+
+#include <Eigen/Core>
+
+#include "mpc/lq_problem.hpp"
+#include "mpc/optimal_control_problem.hpp"
+#include "mpc/relaxed_barrier.hpp"
+
+namespace ballast::mpc {
+
+/// The weights, bounds and barriers the profile tunes come from it (planner.*, gait.*); the
+/// cone's regularisation and the collision barrier are the problem's own.
+struct ProblemSettings {
+  Eigen::VectorXd stateWeights;      ///< diag(Q), nx
+  Eigen::VectorXd inputWeights;      ///< diag(R), nu
+  double terminalWeightScale;        ///< Q_N = scale · Q
+  double frictionCoefficient;        ///< μ
+  double frictionRegularization = 1.0;  ///< ε² in the cone, N²
+  double minNormalForce;             ///< N
+  double maxNormalForce;             ///< N
+  double minFeetDistance;            ///< m
+  double jointLimitMargin;           ///< rad kept from each URDF limit
+  double swingPositionGain;          ///< k_p of the swing velocity condition, 1/s
+  RelaxedBarrier frictionBarrier;    ///< on force terms (N)
+  RelaxedBarrier limitBarrier;       ///< on joint limits (rad, rad/s)
+  RelaxedBarrier collisionBarrier{0.1, 0.005};  ///< on squared distance (m²)
+};
+
+/// x − x_ref with the ZYX angles' difference wrapped to (−π, π].
+Eigen::VectorXd wrappedStateError(const Eigen::VectorXd& x, const Eigen::VectorXd& xRef);
+
+/// ½ dt (‖x − x_ref‖²_Q + ‖u − u_ref‖²_R); with a node, its Q, R, q, r (S zeroed).
+double trackingCost(const ProblemSettings& s, const NodeReference& ref, const Eigen::VectorXd& x,
+                    const Eigen::VectorXd& u, double dt, LqNode* node);
+
+/// dt Σ over stance points of the barriers of μ f_z ≥ sqrt(f_x² + f_y² + ε²),
+/// f_z ≥ f_min and f_z ≤ f_max; with a node, their Gauss-Newton terms added to r and R.
+double contactForceBarriers(const ProblemSettings& s, const NodeReference& ref,
+                            const Eigen::VectorXd& u, double dt, LqNode* node);
+
+/// ½‖x − x_ref‖² weighted by terminalWeightScale · Q; with a node, its Q and q (rest zeroed).
+double terminalTrackingCost(const ProblemSettings& s, const NodeReference& ref,
+                            const Eigen::VectorXd& x, LqNode* node);
+
+/// Zero force on a point that became a swing, the reference force on a new stance.
+void adaptForcesToMode(const NodeReference& ref, const StanceFlags& before, Eigen::VectorXd& u);
+
+}  // namespace ballast::mpc
