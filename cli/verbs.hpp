@@ -25,8 +25,9 @@ inline constexpr Verb kVerbs[] = {
     {"lease take", "lease_take"},  {"lease return", "lease_return"},
 };
 
-/// Commands no verb sends: the CLI prints its own version; leaving ends a watch.
-inline constexpr const char* kNotSent[] = {"version", "unwatch"};
+/// Commands no verb sends: the CLI prints its own version; leaving ends a watch; the programs
+/// that script a held lockstep daemon (ballast-study) send `advance` themselves.
+inline constexpr const char* kNotSent[] = {"version", "unwatch", "advance"};
 
 /// The help of a command's verb.
 inline const char* help(const char* command) { return protocol::commandDoc(command); }

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -142,7 +143,16 @@ void ControlLoop::backendStatus(backend::Status status, const char* call) {
 
 void ControlLoop::run(const std::atomic<bool>& stop) {
   pthread_setname_np(pthread_self(), "ballast-loop");
-  while (!stop.load(std::memory_order_relaxed)) guardedTick();
+  while (!stop.load(std::memory_order_relaxed)) {
+    // Held: wait at run_until_ (the last tick's time within half a period of it) unless a
+    // command waits; it gets one tick, at the same controller time whenever it arrives.
+    if (options_.lockstep && options_.hold && t_ >= run_until_ - 0.5 * period_ &&
+        commands_.size() == 0) {
+      std::this_thread::sleep_for(std::chrono::microseconds(200));
+      continue;
+    }
+    guardedTick();
+  }
   shutting_down_ = true;
   modes_.damp();
   for (int i = 0; i < options_.shutdown_ticks; ++i) guardedTick();
@@ -498,6 +508,13 @@ void ControlLoop::handleCommands() {
         reply.refusal = Refusal::kRefused;
         copyText(reply.message, "a settings switch without settings");
       }
+    } else if (c.kind == CommandKind::kAdvance) {
+      if (!options_.lockstep || !options_.hold) {
+        reply.refusal = Refusal::kUnavailable;
+        copyText(reply.message, "advance steps a held lockstep loop only: start ballastd --lockstep --hold");
+      } else {
+        run_until_ = std::max(run_until_, c.until);
+      }
     } else if (c.kind == CommandKind::kPush) {
       const backend::Capabilities& caps = backend_.capabilities();
       const double f =
@@ -678,6 +695,8 @@ void ControlLoop::publish() {
   p.estop = modes_.estopLatched();
   p.fallen = fallen_;
   p.lockstep = options_.lockstep;
+  p.held = options_.lockstep && options_.hold;
+  p.run_until = run_until_;
   p.planner_available = planner_.available();
   p.stand_up_progress = modes_.standUpProgress(t_);
   p.base = input_.state.base;

@@ -27,7 +27,8 @@
 // (status `timing`), never a fault by itself. The fault is the danger itself: the motors going
 // longer than safety.max_command_gap without a command, or more than safety.max_late_fraction of
 // the last second's ticks late. Lockstep: advance() steps the simulation, so the loop runs as
-// fast as the backend, simulation time is controller time and nothing is ever late.
+// fast as the backend, simulation time is controller time and nothing is ever late; held
+// (LoopOptions::hold), only as far as a client asks.
 #pragma once
 
 #include <array>
@@ -54,6 +55,11 @@ std::uint64_t monotonicNs();
 
 struct LoopOptions {
   bool lockstep = false;
+  /// Lockstep only: the loop ticks only up to the controller time a client asks for (command
+  /// kAdvance), and one tick for each command that arrives while it waits there, so a client
+  /// that drives it lands every command at the controller time it chooses: a scripted run is
+  /// deterministic (ballastd --hold; ballast-study).
+  bool hold = false;
   /// Wall clock (ns) for the tick's work; nullptr: monotonicNs. Tests substitute a clock they
   /// advance themselves.
   std::uint64_t (*clock)() = nullptr;
@@ -213,6 +219,7 @@ class ControlLoop {
   std::uint64_t settings_generation_ = 0;
   std::uint64_t last_command_ = 0;
   double t_ = 0.0, period_ = 0.001;
+  double run_until_ = 0.0;  // hold: controller time the loop runs to
   double wbc_ms_ = 0.0, wbc_ms_max_ = 0.0;
   char message_[kMessageLength] = {};
 };

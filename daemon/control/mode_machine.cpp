@@ -252,6 +252,7 @@ Refusal ModeMachine::handle(const OperatorCommand& c, double t, const Situation&
 
     case CommandKind::kPush:
     case CommandKind::kSwitchSettings:
+    case CommandKind::kAdvance:
       break;
   }
   return refuse(Refusal::kRefused, "internal: this command is not the mode machine's");

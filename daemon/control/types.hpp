@@ -169,6 +169,10 @@ struct LoopStatus {
   bool estop = false;  ///< estop latched
   bool fallen = false;
   bool lockstep = false;
+  /// Lockstep held (LoopOptions::hold): the controller time the loop runs to (`advance`); it
+  /// stands still there, answering commands with a tick each.
+  bool held = false;
+  double run_until = 0.0;
   bool planner_available = false;
   double stand_up_progress = 0.0;
   BaseState base;  ///< estimated
@@ -208,6 +212,7 @@ enum class CommandKind : std::uint8_t {
   kPassive,
   kPush,
   kSwitchSettings,
+  kAdvance,  ///< lockstep held (LoopOptions::hold): run to controller time `until`
 };
 
 struct ControlSettings;
@@ -218,6 +223,7 @@ struct OperatorCommand {
   double vx = 0.0, vy = 0.0, yaw_rate = 0.0, ttl = 0.0;      ///< walk (ttl <= 0: the profile's)
   double height = kNaN, roll = 0.0, pitch = 0.0, yaw = 0.0;  ///< pose (height NaN: nominal)
   backend::Push push;                                        ///< push
+  double until = 0.0;                                        ///< advance: controller time, s
   /// Switch: a handle the IO side keeps (SettingsKeeper) until the loop has taken it.
   const std::shared_ptr<const ControlSettings>* settings = nullptr;
 };

@@ -128,7 +128,7 @@ int main(int argc, char** argv) {
   // ---- 1. options
   CLI::App app{"ballastd: whole-body control daemon for humanoids with heavy limbs (ballastd(8))"};
   std::string profilePath, socketPath, logLevel = "info", dumpSchema;
-  bool lockstep = false, check = false;
+  bool lockstep = false, hold = false, check = false;
   app.add_option("--profile", profilePath,
                  "profile (YAML); default: sim-flat from the profile directories");
   app.add_option("--socket", socketPath,
@@ -138,6 +138,10 @@ int main(int argc, char** argv) {
                      ", else $XDG_RUNTIME_DIR/ballast/ballastd.sock)");
   app.add_flag("--lockstep", lockstep,
                "step the simulation once per tick: deterministic, as fast as it runs");
+  app.add_flag("--hold", hold,
+               "with --lockstep: controller time advances only as far as a client asks "
+               "(protocol command advance), so scripted commands land at exact times")
+      ->needs("--lockstep");
   app.add_option("--log-level", logLevel, "trace, debug, info, warn, error or off")
       ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "off"}));
   app.add_option("--dump-schema", dumpSchema,
@@ -198,6 +202,7 @@ int main(int argc, char** argv) {
   daemon::DaemonOptions options;
   options.profile = profilePath;
   options.lockstep = lockstep;
+  options.hold = hold;
   options.check_only = check;
   options.socket = socketPath;
   options.planner_priority = 60;  // below the loop's 80 (tryRealtime)

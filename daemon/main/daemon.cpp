@@ -117,6 +117,7 @@ Daemon::Daemon(const DaemonOptions& options) {
   }
   control::LoopOptions loopOptions;
   loopOptions.lockstep = options.lockstep;
+  loopOptions.hold = options.hold;
   loopOptions.planner_priority = options.planner_priority;
   loopOptions.telemetry_capacity = settings_.telemetry_ring_frames;
   try {

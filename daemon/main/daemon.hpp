@@ -34,6 +34,8 @@ struct DaemonOptions {
   std::string profile;  ///< a path or a profile name; empty: sim-flat
   std::vector<std::string> profile_dirs = profile::defaultProfileDirs();
   bool lockstep = false;
+  /// With lockstep: controller time advances only as far as clients ask (LoopOptions::hold).
+  bool hold = false;
   /// Stop after the profile, the model, the settings, the terrain map and the backend plugin's
   /// check of its section (BackendEntry::check), starting nothing (ballastd --check).
   bool check_only = false;

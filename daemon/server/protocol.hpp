@@ -93,6 +93,8 @@ inline constexpr Field kPushFields[] = {
     {"force", FieldType::kVector3, -1e4, 1e4, true, "[fx, fy, fz], N, world frame"},
     {"duration", FieldType::kNumber, 0.001, 60, true, "controller seconds"},
     {"body", FieldType::kString, 0, 0, false, "URDF link (default: the base)"}};
+inline constexpr Field kAdvanceFields[] = {
+    {"until", FieldType::kNumber, 0, 1e9, true, "controller time to run to, s"}};
 inline constexpr Field kNameField[] = {
     {"name", FieldType::kString, 0, 0, true, "profile name or path"}};
 inline constexpr Field kOptionalNameField[] = {
@@ -113,6 +115,8 @@ inline constexpr Command kCommands[] = {
     {"reset", true, kNoFields, 0, "clear faults and the estop latch (damp -> passive)"},
     {"passive", true, kNoFields, 0, "zero torque: the robot falls unless held"},
     {"push", true, kPushFields, 3, "push a body with an external force (simulation only)"},
+    {"advance", true, kAdvanceFields, 1,
+     "ballastd --hold: run the simulation to a controller time (replies at once)"},
     {"profile_list", false, kNoFields, 0, "profiles the daemon can switch to"},
     {"profile_show", false, kOptionalNameField, 1,
      "a profile, merged, with where each value comes from"},

@@ -165,6 +165,7 @@ class Server {
   void reset(Client& c, const Request& r);
   void passive(Client& c, const Request& r);
   void push(Client& c, const Request& r);
+  void advance(Client& c, const Request& r);
   void mapLoad(Client& c, const Request& r);
   void mapInfo(Client& c, const Request& r);
   void mapClear(Client& c, const Request& r);

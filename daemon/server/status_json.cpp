@@ -30,6 +30,7 @@ json statusJson(const control::LoopStatus& s, const StatusExtras& x, bool joints
   j["backend"] = x.backend;
   j["simulation"] = x.simulation;
   j["lockstep"] = s.lockstep;
+  if (s.held) j["run_until"] = s.run_until;  // ballastd --hold: where the loop waits
   j["fallen"] = s.fallen;
   j["estop"] = s.estop;
   j["stand_up_progress"] = s.stand_up_progress;

@@ -35,6 +35,7 @@ const std::vector<Server::Verb>& Server::verbs() {
       {"reset", &Server::reset},
       {"passive", &Server::passive},
       {"push", &Server::push},
+      {"advance", &Server::advance},
       {"profile_list", &Server::profileList},
       {"profile_show", &Server::profileShow},
       {"profile_use", &Server::profileUse},
@@ -110,6 +111,12 @@ void Server::push(Client& c, const Request& r) {
     return;
   }
   std::strcpy(oc.push.body, body.c_str());
+  submit(c, r, oc);
+}
+
+void Server::advance(Client& c, const Request& r) {
+  control::OperatorCommand oc = command(CommandKind::kAdvance);
+  oc.until = r.number("until", 0.0);
   submit(c, r, oc);
 }
 
