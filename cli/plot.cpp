@@ -73,6 +73,12 @@ bool readTelemetry(const std::string& path, TelemetryTable& t, std::string& erro
   return true;
 }
 
+std::string gnuplotQuoted(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);
+  return out + "'";
+}
+
 const Figure* findFigure(const std::string& name) {
   for (const Figure& f : kFigures)
     if (name == f.name) return &f;
@@ -98,11 +104,7 @@ const char* const kPalette[] = {"lw 1.2 lc rgb '#1f77b4'", "lw 1.2 lc rgb '#ff7f
 const char* const kBars[] = {"lc rgb '#1f77b4'", "lc rgb '#ff7f0e'", "lc rgb '#2ca02c'",
                              "lc rgb '#d62728'"};
 
-std::string quoted(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);
-  return out + "'";
-}
+std::string quoted(const std::string& s) { return gnuplotQuoted(s); }
 
 std::string number(double x) {
   std::ostringstream o;

@@ -61,6 +61,9 @@ struct PlotOptions {
 std::string plotScript(const TelemetryTable& table, const std::string& data,
                        const std::string& output, const PlotOptions& options);
 
+/// s as a gnuplot string literal ('...', quotes doubled).
+std::string gnuplotQuoted(const std::string& s);
+
 /// Runs gnuplot ($BALLAST_GNUPLOT or gnuplot on PATH) on the script; false with a message.
 bool runGnuplot(const std::string& script, std::string& error);
 
