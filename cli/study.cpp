@@ -351,8 +351,8 @@ void writeMarkdown(const std::string& path, const Options& o, const std::vector<
        << " | " << fixed(m.roll * kDeg, 2) << " | " << fixed(m.pitch * kDeg, 2) << " | "
        << fixed(m.yaw * kDeg, 2) << " |\n";
   }
-  md << "\nSolve times, mean over each window (wall time on this machine, ms; they differ from "
-        "run to run, the table above does not):\n\n"
+  md << "\nSolve times, mean from the walk's start to the end or the fall (wall time on this "
+        "machine, ms; they differ from run to run, the table above does not):\n\n"
      << "| experiment | variant | MPC | WBC |\n|---|---|---|---|\n";
   for (const Run& r : runs)
     if (r.ok)

@@ -89,17 +89,23 @@ bool computeMetrics(const Recording& r, const MetricsWindow& w, RunMetrics& m, s
     }
   // Height about its mean: two passes.
   double zSum = 0.0, mpcSum = 0.0, wbcSum = 0.0;
-  std::size_t n = 0;
+  std::size_t n = 0, solves = 0;
   auto inWindow = [&](std::size_t f) { return r.at(f, t) >= w.begin - 1e-9 && r.at(f, t) < end; };
   for (std::size_t f = 0; f < r.frames(); ++f) {
+    // Solve times from the heading time on, so that a robot that fell early still has them.
+    if (r.at(f, t) >= w.headingTime - 1e-9 && r.at(f, t) < end) {
+      mpcSum += r.at(f, mpc);
+      wbcSum += r.at(f, wbc);
+      ++solves;
+    }
     if (!inWindow(f)) continue;
     zSum += r.at(f, z);
-    mpcSum += r.at(f, mpc);
-    wbcSum += r.at(f, wbc);
     ++n;
   }
+  m.mpcMs = solves ? mpcSum / solves : std::nan("");
+  m.wbcMs = solves ? wbcSum / solves : std::nan("");
   if (n == 0 && m.fell && m.fallTime <= w.begin + 1e-9) {  // fell before the window: no figures
-    m.velocity = m.limb = m.height = m.roll = m.pitch = m.yaw = m.mpcMs = m.wbcMs = std::nan("");
+    m.velocity = m.limb = m.height = m.roll = m.pitch = m.yaw = std::nan("");
     return true;
   }
   if (n == 0) {
@@ -127,8 +133,6 @@ bool computeMetrics(const Recording& r, const MetricsWindow& w, RunMetrics& m, s
   m.roll = ro.value();
   m.pitch = pi.value();
   m.yaw = ya.value();
-  m.mpcMs = mpcSum / n;
-  m.wbcMs = wbcSum / n;
   m.samples = n;
   return true;
 }

@@ -14,8 +14,8 @@
 //             walking, it is constant)
 //   roll, pitch  RMS of the angle − its command, rad
 //   yaw       RMS of the yaw − the yaw at `headingTime` (the heading walking started with), rad
-//   mpc, wbc  mean solve times, ms (wall time on this machine: the only figures that differ
-//             from run to run)
+//   mpc, wbc  mean solve times, ms, from `headingTime` to the end or the fall (wall time on
+//             this machine: the only figures that differ from run to run)
 #pragma once
 
 #include <string>
