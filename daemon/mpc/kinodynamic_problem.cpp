@@ -30,6 +30,16 @@ KinodynamicProblem::KinodynamicProblem(const model::Model& model,
       nx_(CentroidalLayout{model.nj(), kNumContacts}.nx()),
       nu_(CentroidalLayout{model.nj(), kNumContacts}.nu()) {}
 
+Eigen::VectorXd KinodynamicProblem::stateError(const Eigen::VectorXd& x,
+                                               const Eigen::VectorXd& xRef) const {
+  Eigen::VectorXd e = x - xRef;
+  for (int k = 0; k < 3; ++k) {
+    double& a = e[CentroidalLayout::kBaseZyx + k];
+    a = std::remainder(a, 2.0 * M_PI);
+  }
+  return e;
+}
+
 void KinodynamicProblem::evaluate(ProblemWorkspace& ws, const NodeReference& ref,
                                   const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt,
                                   NodeValue& value) const {
@@ -44,7 +54,11 @@ void KinodynamicProblem::linearize(ProblemWorkspace& ws, const NodeReference& re
 
 void KinodynamicProblem::adaptInputToMode(const NodeReference& ref, const StanceFlags& before,
                                           Eigen::VectorXd& u) const {
-  adaptForcesToMode(ref, before, u);
+  for (int c = 0; c < kNumContacts; ++c) {
+    if (ref.stance[c] == before[c]) continue;
+    const int i = CentroidalLayout::force(c);
+    u.segment<3>(i) = ref.stance[c] ? Eigen::Vector3d(ref.u.segment<3>(i)) : Eigen::Vector3d::Zero();
+  }
 }
 
 void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
@@ -130,15 +144,38 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
   value.equalityNorm2 = eq2;
 
   // Cost, integrated over the stage: tracking, then barriers.
+  const Eigen::VectorXd ex = stateError(x, ref.x);
+  const Eigen::VectorXd eu = u - ref.u;
+  double cost = 0.5 * dt * (ex.dot(s.stateWeights.cwiseProduct(ex)) + eu.dot(s.inputWeights.cwiseProduct(eu)));
   if (node) {
     node->neq = row;
     node->A.setIdentity();
     node->A.noalias() += dt * ws.Ax;
     node->B.noalias() = dt * ws.Bu;
+    node->Q = (dt * s.stateWeights).asDiagonal();
+    node->R = (dt * s.inputWeights).asDiagonal();
+    node->S.setZero();
+    node->q = dt * s.stateWeights.cwiseProduct(ex);
+    node->r = dt * s.inputWeights.cwiseProduct(eu);
   }
-  double cost = trackingCost(s, ref, x, u, dt, node);
   // Stance points: friction cone and normal force bounds, on the point's 3 force entries.
-  cost += contactForceBarriers(s, ref, u, dt, node);
+  for (int c = 0; c < kNumContacts; ++c) {
+    if (!ref.stance[c]) continue;
+    const int i = L.force(c);
+    const Eigen::Vector3d f = u.segment<3>(i);
+    const RelaxedBarrier& b = s.frictionBarrier;
+    auto barrier = [&](double h, const Eigen::Vector3d& grad) {  // h(f) ≥ 0, ∇h = grad
+      cost += dt * b.value(h);
+      if (!node) return;
+      node->r.segment<3>(i) += dt * b.firstDerivative(h) * grad;
+      node->R.block<3, 3>(i, i).noalias() += dt * b.secondDerivative(h) * grad * grad.transpose();
+    };
+    const double tangential = std::sqrt(f.x() * f.x() + f.y() * f.y() + s.frictionRegularization);
+    barrier(s.frictionCoefficient * f.z() - tangential,
+            Eigen::Vector3d(-f.x() / tangential, -f.y() / tangential, s.frictionCoefficient));
+    barrier(f.z() - s.minNormalForce, Eigen::Vector3d::UnitZ());
+    barrier(s.maxNormalForce - f.z(), -Eigen::Vector3d::UnitZ());
+  }
   // Joint position and velocity limits: each a scalar bound on one entry.
   auto bound = [&](double h, double sign, int index, bool onState) {
     const RelaxedBarrier& b = s.limitBarrier;
@@ -182,7 +219,14 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
 
 double KinodynamicProblem::terminalCost(const NodeReference& ref, const Eigen::VectorXd& x,
                                         LqNode* node) const {
-  return terminalTrackingCost(settings_, ref, x, node);
+  const Eigen::VectorXd e = stateError(x, ref.x);
+  const Eigen::VectorXd w = settings_.terminalWeightScale * settings_.stateWeights;
+  if (node) {
+    node->setZero();
+    node->Q = w.asDiagonal();
+    node->q = w.cwiseProduct(e);
+  }
+  return 0.5 * e.dot(w.cwiseProduct(e));
 }
 
 }  // namespace ballast::mpc

@@ -39,9 +39,26 @@
 #include "model/frame_derivatives_zyx.hpp"
 #include "mpc/optimal_control_problem.hpp"
 #include "mpc/relaxed_barrier.hpp"
-#include "mpc/tracking_cost.hpp"
 
 namespace ballast::mpc {
+
+/// The weights, bounds and barriers the profile tunes come from it (planner.*, gait.*); the
+/// cone's regularisation and the collision barrier are the problem's own.
+struct ProblemSettings {
+  Eigen::VectorXd stateWeights;      ///< diag(Q), nx
+  Eigen::VectorXd inputWeights;      ///< diag(R), nu
+  double terminalWeightScale;        ///< Q_N = scale · Q
+  double frictionCoefficient;        ///< μ
+  double frictionRegularization = 1.0;  ///< ε² in the cone, N²
+  double minNormalForce;             ///< N
+  double maxNormalForce;             ///< N
+  double minFeetDistance;            ///< m
+  double jointLimitMargin;           ///< rad kept from each URDF limit
+  double swingPositionGain;          ///< k_p of the swing velocity condition, 1/s
+  RelaxedBarrier frictionBarrier;    ///< on force terms (N)
+  RelaxedBarrier limitBarrier;       ///< on joint limits (rad, rad/s)
+  RelaxedBarrier collisionBarrier{0.1, 0.005};  ///< on squared distance (m²)
+};
 
 class KinodynamicProblem;
 
@@ -84,6 +101,9 @@ class KinodynamicProblem final : public OptimalControlProblem {
   /// Zero force on a point that became a swing, the reference force on a new stance.
   void adaptInputToMode(const NodeReference& ref, const StanceFlags& before,
                         Eigen::VectorXd& u) const override;
+
+  /// x − x_ref with the yaw difference wrapped.
+  Eigen::VectorXd stateError(const Eigen::VectorXd& x, const Eigen::VectorXd& xRef) const;
 
  private:
   void compute(NodeWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,

@@ -1,8 +1,15 @@
-// The stage-cost terms the kino-dynamic and the single-rigid-body problems share, so that the
-// paper's cH/cNH and its cI differ in their dynamics and nothing else: the quadratic tracking
-// cost with the ZYX angles' error wrapped, the stance points' friction cone and normal-force
-// bounds as relaxed barriers (eq. ic_friction_cone, ic_fz_max), the terminal cost, and the warm
-// start's inputs across a contact-mode change.
+// The single-rigid-body problem's stage-cost terms: the kino-dynamic problem's on the entries
+// the two share, so that the paper's cH/cNH and its cI differ in their dynamics and nothing else:
+// the quadratic tracking cost with the ZYX angles' error wrapped, the stance points' friction cone
+// and normal-force bounds as relaxed barriers (eq. ic_friction_cone, ic_fz_max), the terminal
+// cost, and the warm start's inputs across a contact-mode change.
+//
+// KinodynamicProblem computes the same terms in its own compute() and terminalCost(), and keeps
+// them there: moved into these functions they changed cH's plans in the last bits (GCC fuses
+// multiply-adds per translation unit, as its inlining goes, and even the headers that unit
+// includes changed kinodynamic_problem.cpp's code), and a walk stopped at 1.2 m/s turns on such
+// rounding (issue 13), so the refactor made cH stop differently from main. The unit test
+// SingleRigidBody.CostTermsAreTheKinodynamicProblems holds the two copies to the same numbers.
 //
 // Layouts: both problems' states begin [h_com (6), p_b (3), zyx_b (3)] and their inputs
 // [f_c1..f_c4 (12, world)]; the weights are the problem's diagonal Q and R (ProblemSettings).
@@ -10,29 +17,12 @@
 
 #include <Eigen/Core>
 
+#include "mpc/kinodynamic_problem.hpp"  // ProblemSettings
 #include "mpc/lq_problem.hpp"
 #include "mpc/optimal_control_problem.hpp"
 #include "mpc/relaxed_barrier.hpp"
 
 namespace ballast::mpc {
-
-/// The weights, bounds and barriers the profile tunes come from it (planner.*, gait.*); the
-/// cone's regularisation and the collision barrier are the problem's own.
-struct ProblemSettings {
-  Eigen::VectorXd stateWeights;      ///< diag(Q), nx
-  Eigen::VectorXd inputWeights;      ///< diag(R), nu
-  double terminalWeightScale;        ///< Q_N = scale · Q
-  double frictionCoefficient;        ///< μ
-  double frictionRegularization = 1.0;  ///< ε² in the cone, N²
-  double minNormalForce;             ///< N
-  double maxNormalForce;             ///< N
-  double minFeetDistance;            ///< m
-  double jointLimitMargin;           ///< rad kept from each URDF limit
-  double swingPositionGain;          ///< k_p of the swing velocity condition, 1/s
-  RelaxedBarrier frictionBarrier;    ///< on force terms (N)
-  RelaxedBarrier limitBarrier;       ///< on joint limits (rad, rad/s)
-  RelaxedBarrier collisionBarrier{0.1, 0.005};  ///< on squared distance (m²)
-};
 
 /// x − x_ref with the ZYX angles' difference wrapped to (−π, π].
 Eigen::VectorXd wrappedStateError(const Eigen::VectorXd& x, const Eigen::VectorXd& xRef);

@@ -225,5 +225,73 @@ TEST_F(SingleRigidBody, SqpIterationsMeetTheDynamicsAndConvergeInsideTheCone) {
     }
 }
 
+// The cost terms the two problems share are computed twice (tracking_cost.hpp says why): on a
+// state whose limbs are at their reference, with the kino-dynamic problem's own barriers (joint
+// limits, feet distance) switched off, both give the same cost, the same Q, R, q and r on the 12
+// shared entries, the same terminal cost and the same warm-start forces across a mode change.
+TEST_F(SingleRigidBody, CostTermsAreTheKinodynamicProblems) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> d(-1.0, 1.0);
+  ProblemSettings kinoSettings = test::controlDefaults().locomotion.problem;
+  kinoSettings.stateWeights = Eigen::VectorXd::NullaryExpr(L.nx(), [&] { return 2.0 + d(rng); });
+  kinoSettings.inputWeights = Eigen::VectorXd::NullaryExpr(L.nu(), [&] { return 0.02 + 0.01 * d(rng); });
+  kinoSettings.limitBarrier.weight = 0.0;
+  kinoSettings.collisionBarrier.weight = 0.0;
+  ProblemSettings srbdSettings = kinoSettings;
+  srbdSettings.stateWeights = kinoSettings.stateWeights.head(12);
+  srbdSettings.inputWeights = kinoSettings.inputWeights.head(12);
+  const KinodynamicProblem kino(m, {frames[0], frames[1], frames[2], frames[3]}, kinoSettings);
+  const SingleRigidBodyProblem srbd(body, srbdSettings);
+
+  NodeReference kinoRef;
+  kinoRef.x = Eigen::VectorXd::Zero(L.nx());
+  kinoRef.x.segment<3>(L.kBasePosition) = qStand.head<3>();
+  kinoRef.x[L.kBaseZyx] = 3.0;  // near +pi: the state's yaw below -pi checks the wrap
+  kinoRef.x.tail(m.nj()) = posture;
+  kinoRef.u = Eigen::VectorXd::Zero(L.nu());
+  kinoRef.stance = {true, true, false, true};
+  for (int c : {0, 1, 3}) kinoRef.u[L.force(c) + 2] = body.mass * 9.81 / 3;
+  Eigen::VectorXd x = kinoRef.x, u = kinoRef.u;
+  x.head(12) += 0.2 * Eigen::VectorXd::NullaryExpr(12, [&] { return d(rng); });
+  x[L.kBaseZyx] -= 2.0 * M_PI;
+  u.head(12) += 30.0 * Eigen::VectorXd::NullaryExpr(12, [&] { return d(rng); });
+  NodeReference srbdRef = kinoRef;
+  srbdRef.x = kinoRef.x.head(12);
+  srbdRef.u = kinoRef.u.head(12);
+
+  const double dt = 0.02;
+  auto kinoWs = kino.makeWorkspace();
+  ProblemWorkspace srbdWs;
+  LqNode kinoNode(L.nx(), L.nu(), kino.maxEqualities()), srbdNode(12, 12, srbd.maxEqualities());
+  NodeValue kinoValue, srbdValue;
+  kino.linearize(*kinoWs, kinoRef, x, u, dt, kinoNode, kinoValue);
+  srbd.linearize(srbdWs, srbdRef, x.head(12), u.head(12), dt, srbdNode, srbdValue);
+  ASSERT_GT(srbdValue.cost, 0.1);  // the terms matter here (dt = 0.02)
+  auto same = [](const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
+    return (a - b).cwiseAbs().maxCoeff() <= 1e-12 * (1.0 + b.cwiseAbs().maxCoeff());
+  };
+  EXPECT_NEAR(srbdValue.cost, kinoValue.cost, 1e-12 * kinoValue.cost);
+  EXPECT_TRUE(same(srbdNode.Q, kinoNode.Q.topLeftCorner(12, 12)));
+  EXPECT_TRUE(same(srbdNode.R, kinoNode.R.topLeftCorner(12, 12)));
+  EXPECT_TRUE(same(srbdNode.q, kinoNode.q.head(12)));
+  EXPECT_TRUE(same(srbdNode.r, kinoNode.r.head(12))) << srbdNode.r.transpose() << "\n"
+                                                     << kinoNode.r.head(12).transpose();
+  EXPECT_TRUE(same(srbdNode.S, kinoNode.S.topLeftCorner(12, 12)));
+
+  LqNode kinoTerminal(L.nx(), L.nu(), 0), srbdTerminal(12, 12, 0);
+  const double kinoCost = kino.terminalCost(kinoRef, x, &kinoTerminal);
+  EXPECT_NEAR(srbd.terminalCost(srbdRef, x.head(12), &srbdTerminal), kinoCost, 1e-12 * kinoCost);
+  EXPECT_TRUE(same(srbdTerminal.Q, kinoTerminal.Q.topLeftCorner(12, 12)));
+  EXPECT_TRUE(same(srbdTerminal.q, kinoTerminal.q.head(12)));
+
+  // The right heel lands and the left toe lifts: the warm start's forces follow alike.
+  const StanceFlags before = {true, true, true, false};
+  Eigen::VectorXd kinoU = u, srbdU = u.head(12);
+  kino.adaptInputToMode(kinoRef, before, kinoU);
+  srbd.adaptInputToMode(srbdRef, before, srbdU);
+  EXPECT_EQ(srbdU, kinoU.head(12));
+  EXPECT_NE(srbdU, u.head(12));
+}
+
 }  // namespace
 }  // namespace ballast::mpc
