@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <list>
 #include <thread>
 
@@ -220,20 +221,26 @@ TEST_F(LoopOnFake, PlannerSlotRunsAtItsRateInControllerTimeWhileStanding) {
   EXPECT_NEAR(planner.calls.load() - before, 100, 1);
 }
 
-/// The real planner, with answers invalidated on demand (a solver failure as the loop sees it).
+/// The real planner, with its answers to the inputs of a window of controller time invalidated
+/// (a solver failure as the loop sees it). The window is on the input's time, not a flag the test
+/// flips between ticks: the planner thread solves while the loop ticks on (lockstep waits only
+/// when a plan is due), so with a flag read after the solve the count of failed answers was 4, 5
+/// or 6 by which side of the flip each solve ended (2 runs in 15 on a loaded machine, main too).
 class FailingPlanner : public Planner {
  public:
   explicit FailingPlanner(Planner& inner) : inner_(inner) {}
   void plan(const PlannerInput& in, PlannerOutput& out) override {
     inner_.plan(in, out);
-    if (failing.load()) {
+    if (in.t >= failFrom.load() && in.t < failUntil.load()) {
       out.valid = false;
       copyText(out.message, "injected: no step reduced cost or constraint violation");
     }
   }
-  std::atomic<bool> failing{false};
+  /// Inputs with failFrom <= t < failUntil fail; none at first.
+  std::atomic<double> failFrom{kInf}, failUntil{kInf};
 
  private:
+  static constexpr double kInf = std::numeric_limits<double>::infinity();
   Planner& inner_;
 };
 
@@ -249,10 +256,11 @@ TEST_F(LoopOnFake, APlannerFailureKeepsTheLastPlanUntilItIsTooOld) {
   // Five failed answers (50 ms at 100 Hz, within safety.max_plan_age 0.1 s): still standing on
   // the last plan, the failures counted, one warning for the streak.
   ASSERT_NEAR(settings_.max_plan_age, 0.1, 1e-12);
-  planner.failing = true;
-  ticks(50);
-  planner.failing = false;
-  ticks(100);
+  // From half a tick on (no input's time on the window's edges): the inputs of 50 ticks.
+  const double from = loop_->status().t + 0.0005;
+  planner.failUntil = from + 0.05;  // first: the window is empty until failFrom comes down
+  planner.failFrom = from;
+  ticks(150);
   LoopStatus s = loop_->status();
   EXPECT_EQ(s.mode, Mode::kStand);
   EXPECT_EQ(s.faults.size, 0);
@@ -262,7 +270,8 @@ TEST_F(LoopOnFake, APlannerFailureKeepsTheLastPlanUntilItIsTooOld) {
     if (e.warning && std::strstr(e.message, "keeping the last one")) ++warnings;
   EXPECT_EQ(warnings, 1);
   // A planner that keeps failing: the plan grows older than 0.1 s, a planner fault damps.
-  planner.failing = true;
+  planner.failFrom = loop_->status().t + 0.0005;  // the last window is past: still none
+  planner.failUntil = std::numeric_limits<double>::infinity();
   ticks(150);
   s = loop_->status();
   EXPECT_EQ(s.mode, Mode::kDamp);
