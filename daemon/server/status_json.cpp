@@ -83,6 +83,7 @@ json statusJson(const control::LoopStatus& s, const StatusExtras& x, bool joints
     j["truth"] = {{"base", base(s.truth)}, {"non_foot_contact", s.truth_non_foot_contact}};
   j["lease"] = x.lease;
   j["recording"] = x.recording;
+  j["settings_held"] = x.settings_held;
   j["map"] = x.map;
   if (joints) {
     json names = json::array(), q = json::array(), tau = json::array();

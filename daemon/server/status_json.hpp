@@ -20,6 +20,7 @@ struct StatusExtras {
   std::vector<std::string> contact_frames;
   std::vector<std::string> joint_names;
   nlohmann::json lease = nullptr, recording = nullptr, map = nullptr;
+  std::size_t settings_held = 0;  ///< control::SettingsKeeper::held()
 };
 
 nlohmann::json statusJson(const control::LoopStatus& s, const StatusExtras& extras,

@@ -46,6 +46,7 @@ json Server::status(bool joints) {
       {"frames", s.telemetry_frames},
       {"dropped", s.telemetry_dropped}};
   extras_.map = ctx_.map.info();
+  extras_.settings_held = ctx_.keeper.held();
   return statusJson(s, extras_, joints);
 }
 

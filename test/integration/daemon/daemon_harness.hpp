@@ -45,15 +45,19 @@ class RawClient {
   }
   ~RawClient() { close(fd_); }
   bool connected() const { return connected_; }
-  /// Sends text (a newline is added) and returns the next reply line (null on timeout).
-  json ask(const std::string& text, double timeout_s = 10) {
+  /// Sends text (a newline is added); false if the connection took not all of it.
+  bool send(const std::string& text) {
     const std::string line = text + "\n";
     for (std::size_t done = 0; done < line.size();) {
-      const ssize_t n = send(fd_, line.data() + done, line.size() - done, MSG_NOSIGNAL);
-      if (n <= 0) return json();
+      const ssize_t n = ::send(fd_, line.data() + done, line.size() - done, MSG_NOSIGNAL);
+      if (n <= 0) return false;
       done += static_cast<std::size_t>(n);
     }
-    return next(timeout_s);
+    return true;
+  }
+  /// Sends text (a newline is added) and returns the next reply line (null on timeout).
+  json ask(const std::string& text, double timeout_s = 10) {
+    return send(text) ? next(timeout_s) : json();
   }
   json next(double timeout_s = 10) {
     const auto deadline =

@@ -317,6 +317,43 @@ TEST_F(Verbs, ProfileListShowUse) {
   }
 }
 
+TEST_F(Verbs, SwitchesWhoseRepliesNobodyReadsLeakNoSettings) {
+  // Profile switches from connections that close before the reply (those sent while another
+  // is under way are refused as busy, unread): each accepted one's settings are kept for the
+  // loop until it lets go of them, then freed; none stays behind (settings_held back to the one
+  // in force), and no switch is left pending: the next one, through the CLI, goes through.
+  Outcome r = cli({"lease", "acquire"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::string lease = readFile((dir_ / "lease-a").string());
+  lease = lease.substr(0, lease.find('\n'));
+  std::vector<std::string> profiles;
+  for (const char* name : {"soft", "stiff"})
+    profiles.push_back(writeFile(dir_ / (std::string(name) + ".yaml"),
+                                 "extends: " + std::string(SIM_PROFILE) +
+                                     "\ncontrol:\n  joint_kp: {legs: " +
+                                     (name[1] == 'o' ? "280" : "320") + ", arms: 80}\n"));
+  EXPECT_EQ(daemon_->status()["settings_held"], 1);
+  constexpr int kSwitches = 20;
+  for (int i = 0; i < kSwitches; ++i) {
+    RawClient c(daemon_->socket());
+    ASSERT_TRUE(c.connected());
+    const json request = {{"cmd", "profile_use"},
+                          {"name", profiles[static_cast<std::size_t>(i % 2)]},
+                          {"lease", lease}};
+    ASSERT_TRUE(c.send(request.dump()));
+  }  // each connection closes with its reply unread
+  ASSERT_TRUE(daemon_->waitFor(
+      [](const json& s) { return s["profile"] != "sim-flat" && s["settings_held"] == 1; }, 60))
+      << daemon_->status().dump();
+  const std::string other = daemon_->status()["profile"] == "soft" ? profiles[1] : profiles[0];
+  r = cli({"profile", "use", other});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(daemon_->waitFor([](const json& s) { return s["settings_held"] == 1; }, 30))
+      << daemon_->status().dump();
+  EXPECT_EQ(daemon_->status()["mode"], "stand");
+  EXPECT_EQ(daemon_->status()["fallen"], false);
+}
+
 TEST_F(Verbs, InvalidProfileSwitchKeepsTheRunningOne) {
   const std::string bad = writeFile(dir_ / "bad.yaml", "extends: " + std::string(SIM_PROFILE) +
                                                            "\ncontrol:\n  stand_up_duration: -1\n");
