@@ -308,10 +308,9 @@ void ControlLoop::keepSchedule(double work) {
 }
 
 void ControlLoop::planPost() {
-  // The planner works in stand and walk; leaving them forgets the plan.
+  // The planner works in the planned modes; leaving them forgets the plan.
   const Mode mode = modes_.mode();
-  const bool plan = planner_.available() && sensors_ok_ && !shutting_down_ &&
-                    (mode == Mode::kStand || mode == Mode::kWalk || mode == Mode::kRecover);
+  const bool plan = planner_.available() && sensors_ok_ && !shutting_down_ && plannedMode(mode);
   if (!plan) {
     planning_ = false;
     have_plan_ = false;
@@ -424,19 +423,18 @@ void ControlLoop::readSensors() {
   t_ = sensors_.time;
   // The contact schedule of the plan in force (standing: every point) and the terrain heights
   // its contact points stand on (from the planner's map; before a plan, the ground height).
-  std::array<bool, kNumContacts>& scheduled = scheduled_;
-  scheduled.fill(true);
+  scheduled_.fill(true);
   std::array<double, kNumContacts> terrain;
   terrain.fill(settings_->ground_height);
   if (have_plan_) {
     const gait::ContactFlags flags = plan_.plan.schedule.flagsAt(t_);
     for (int c = 0; c < kNumContacts; ++c) {
-      scheduled[c] = flags[c];
+      scheduled_[c] = flags[c];
       terrain[c] = plan_.plan.supportHeight[c];
     }
   }
   const std::uint64_t estimator_start = clock_();
-  sensors_ok_ = estimator_.update(sensors_, q_, dq_, tau_, scheduled, terrain, input_.state);
+  sensors_ok_ = estimator_.update(sensors_, q_, dq_, tau_, scheduled_, terrain, input_.state);
   tick_profile_.estimator = secondsSince(estimator_start);
   profile_.estimator += tick_profile_.estimator;
   // A localisation fix bounds the drift of leg odometry (the next update shows it).
@@ -588,9 +586,7 @@ void ControlLoop::detectFall() {
   fallen_ =
       tilt > s.max_tilt || height < s.min_base_height || (nonFoot && s.fall_on_non_foot_contact);
   const Mode m = modes_.mode();
-  if (!fallen_ ||
-      !(m == Mode::kStandUp || m == Mode::kStand || m == Mode::kWalk || m == Mode::kRecover))
-    return;
+  if (!fallen_ || !(m == Mode::kStandUp || plannedMode(m))) return;
   if (tilt > s.max_tilt)
     std::snprintf(message_, sizeof(message_), "base tilted %.2f rad (%s %.2f)", tilt,
                   settingName(s, &s.max_tilt, "limit"), s.max_tilt);
@@ -633,8 +629,7 @@ void ControlLoop::computeCommands() {
   input_.stand_up_progress = modes_.standUpProgress(t_);
   input_.command = modes_.command();
   input_.plan = have_plan_ ? &plan_ : nullptr;
-  if ((mode == Mode::kStand || mode == Mode::kWalk || mode == Mode::kRecover) &&
-      walking_.ready(input_.plan)) {
+  if (plannedMode(mode) && walking_.ready(input_.plan)) {
     const wbc::WbcStatus status = walking_.compute(input_, output_);
     if (status == wbc::WbcStatus::kInvalidInput) {
       raise(FaultKind::kNotANumber,

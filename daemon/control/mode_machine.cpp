@@ -178,7 +178,7 @@ Refusal ModeMachine::handle(const OperatorCommand& c, double t, const Situation&
                       "walking needs the planner and this ballastd runs without one: the robot "
                       "keeps standing; use `ballast pose` to move the base in place");
       if (mode_ == Mode::kDamp) return refuseDamped("stand");
-      if (mode_ != Mode::kStand && mode_ != Mode::kWalk && mode_ != Mode::kRecover)
+      if (!plannedMode(mode_))
         return refuse(Refusal::kRefused,
                       mode_ == Mode::kStandUp
                           ? "the robot is still standing up: wait until `ballast status` says "
@@ -212,8 +212,7 @@ Refusal ModeMachine::handle(const OperatorCommand& c, double t, const Situation&
       return Refusal::kNone;
 
     case CommandKind::kPose: {
-      if (mode_ != Mode::kStandUp && mode_ != Mode::kStand && mode_ != Mode::kWalk &&
-          mode_ != Mode::kRecover)
+      if (mode_ != Mode::kStandUp && !plannedMode(mode_))
         return mode_ == Mode::kDamp
                    ? refuseDamped("stand")
                    : refuse(Refusal::kRefused,

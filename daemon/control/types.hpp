@@ -35,6 +35,12 @@ enum class Mode : std::uint8_t { kPassive, kStandUp, kStand, kWalk, kDamp, kReco
 /// "passive", "stand-up", "stand", "walk", "damp", "recover": the names status reports.
 const char* modeName(Mode mode);
 
+/// The modes the planner plans for and the walking controller drives: standing, walking, and
+/// the steps that recover from a push while standing.
+inline constexpr bool plannedMode(Mode m) {
+  return m == Mode::kStand || m == Mode::kWalk || m == Mode::kRecover;
+}
+
 struct BaseState {
   double position[3] = {};               ///< world, m
   double orientation[4] = {0, 0, 0, 1};  ///< world <- base, quaternion (x, y, z, w)
