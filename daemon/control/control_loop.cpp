@@ -445,20 +445,20 @@ void ControlLoop::readSensors() {
 
 void ControlLoop::handOffScan() {
   const MappingSettings& ms = mapper_->settings();
-  // Lockstep: the map of the pending scan is due; it is waited for (the planner's way there).
-  if (options_.lockstep && scan_pending_ != 0 && t_ + PlannerSlot::kTimeTolerance >= scan_due_) {
+  // Lockstep: the map of the pending scan is waited for (the planner's way there) when it is
+  // due, or before the next scan goes (one in flight at a time).
+  auto takePending = [&] {
     mapper_->waitFor(scan_pending_);
     planner_input_.map_scan = scan_pending_;
     scan_pending_ = 0;
-  }
+  };
+  if (options_.lockstep && scan_pending_ != 0 && t_ + PlannerSlot::kTimeTolerance >= scan_due_)
+    takePending();
   backend::PointCloudView view;
   if (!sensors_ok_ || !backend_.lidarScan(view)) return;
   if (t_ + PlannerSlot::kTimeTolerance < next_scan_) return;  // mapping.rate
   next_scan_ = t_ + 0.75 / ms.rate;
-  if (options_.lockstep && scan_pending_ != 0) {  // one in flight at a time
-    mapper_->waitFor(scan_pending_);
-    planner_input_.map_scan = scan_pending_;
-  }
+  if (options_.lockstep && scan_pending_ != 0) takePending();
   LidarScan& scan = mapper_->back();
   scan.index = ++scans_handed_;
   scan.t = t_;

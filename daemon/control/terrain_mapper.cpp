@@ -16,6 +16,7 @@
 #include <octomap/OcTree.h>
 
 #include "control/mpc_planner.hpp"
+#include "model/base_conventions.hpp"
 #include "model/forward_kinematics.hpp"
 #include "model/frames.hpp"
 
@@ -62,7 +63,6 @@ void TerrainMapper::stop() {
 }
 
 void TerrainMapper::handOff() {
-  handed_.store(scans_.back().index, std::memory_order_release);
   scans_.publish();
   sem_post(&wake_);
 }
@@ -136,12 +136,8 @@ void TerrainMapper::insert(const LidarScan& scan) {
     model::forwardKinematics(model_, data, q);
     // world <- link (the estimate) * link <- sensor (its mount, URDF's fixed-axis rpy).
     const double* a = scan.sensor_rpy;
-    const double cr = std::cos(a[0]), sr = std::sin(a[0]), cp = std::cos(a[1]), sp = std::sin(a[1]),
-                 cy = std::cos(a[2]), sy = std::sin(a[2]);
     model::SE3<double> mount;
-    mount.R << cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr,  //
-        sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr,         //
-        -sp, cp * sr, cp * cr;
+    mount.R = model::rotationFromZyx(model::Vec3<double>(a[2], a[1], a[0]));
     mount.p << scan.sensor_offset[0], scan.sensor_offset[1], scan.sensor_offset[2];
     pose = toPose(model::framePlacement(model_, data, frame) * mount);
   }

@@ -137,7 +137,7 @@ class TerrainMapper {
   std::atomic<bool> stop_{false};
   bool background_ = false;
   std::thread thread_;
-  std::atomic<std::uint64_t> done_{0}, handed_{0};
+  std::atomic<std::uint64_t> done_{0};
 
   std::mutex mutex_;  // the map and the figures below (mapping and IO threads)
   terrain::LiveMap map_;
