@@ -7,18 +7,10 @@ namespace ballast::mpc {
 
 using model::CentroidalLayout;
 
-namespace {
-Eigen::Matrix3d cross(const Eigen::Vector3d& a) {
-  Eigen::Matrix3d m;
-  m << 0, -a.z(), a.y(),  //
-      a.z(), 0, -a.x(),   //
-      -a.y(), a.x(), 0;
-  return m;
-}
-}  // namespace
+using model::skew;
 
 SingleRigidBodyProblem::SingleRigidBodyProblem(const RigidBody& body, const ProblemSettings& settings)
-    : body_(body), settings_(settings) {}
+    : body_(body), inertiaInverse_(body.inertia.inverse()), settings_(settings) {}
 
 void SingleRigidBodyProblem::dynamics(const NodeReference& ref, const Eigen::VectorXd& x,
                                       const Eigen::VectorXd& u, Eigen::Matrix<double, 12, 1>& xdot,
@@ -28,7 +20,7 @@ void SingleRigidBodyProblem::dynamics(const NodeReference& ref, const Eigen::Vec
   const Eigen::Matrix3d R = model::rotationFromZyx<double>(zyx);
   const Eigen::Vector3d offset = R * body_.com;  // c − p_b
   const Eigen::Vector3d com = ref.x.segment<3>(CentroidalLayout::kBasePosition) + offset;  // c*
-  const Eigen::Matrix3d inertiaInverse = R * body_.inertia.inverse() * R.transpose();
+  const Eigen::Matrix3d inertiaInverse = R * inertiaInverse_ * R.transpose();
   // E⁻¹ column by column (E does not depend on roll; closed form in base_conventions.hpp).
   Eigen::Matrix3d Einv;
   for (int k = 0; k < 3; ++k)
@@ -38,10 +30,10 @@ void SingleRigidBodyProblem::dynamics(const NodeReference& ref, const Eigen::Vec
   G.setZero();
   for (int c = 0; c < kNumContacts; ++c) {
     G.block<3, 3>(0, 3 * c).setIdentity();
-    G.block<3, 3>(3, 3 * c) = cross(ref.contactPosition[c] - com);
+    G.block<3, 3>(3, 3 * c) = skew<double>(ref.contactPosition[c] - com);
   }
   F.block<3, 3>(CentroidalLayout::kBasePosition, 0) = Eigen::Matrix3d::Identity() / body_.mass;
-  F.block<3, 3>(CentroidalLayout::kBasePosition, 3) = cross(offset) * inertiaInverse;
+  F.block<3, 3>(CentroidalLayout::kBasePosition, 3) = skew<double>(offset) * inertiaInverse;
   F.block<3, 3>(CentroidalLayout::kBaseZyx, 3) = Einv * inertiaInverse;
   xdot.setZero();
   xdot.head<3>() = body_.mass * body_.gravity + ref.externalForce;

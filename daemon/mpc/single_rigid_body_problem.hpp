@@ -82,6 +82,7 @@ class SingleRigidBodyProblem final : public OptimalControlProblem {
                double dt, LqNode* node, NodeValue& value) const;
 
   RigidBody body_;
+  Eigen::Matrix3d inertiaInverse_;  ///< body_.inertia⁻¹, base frame
   ProblemSettings settings_;
 };
 
