@@ -365,10 +365,7 @@ void writeMarkdown(const std::string& path, const Options& o, const std::vector<
 
 /// The figures' series of a run at 100 Hz: t v_fwd cmd_vx limb_err x y z roll pitch yaw.
 bool writeSeries(const Recording& rec, const std::string& path) {
-  auto col = [&](const char* name) {
-    const int truth = rec.column(std::string("true_") + name);
-    return truth >= 0 ? truth : rec.column(name);
-  };
+  auto col = [&](const char* name) { return truthOrEstimate(rec, name); };
   const int c[] = {0, col("v_fwd"), rec.column("cmd_vx"), rec.column("limb_err"), col("x"),
                    col("y"), col("z"), col("roll"), col("pitch"), col("yaw")};
   for (int i : c)

@@ -46,14 +46,16 @@ struct Rms {
 };
 }  // namespace
 
+int truthOrEstimate(const Recording& r, const std::string& name) {
+  const int truth = r.column("true_" + name);
+  if (truth >= 0 && r.frames() > 0 && std::isfinite(r.at(0, truth))) return truth;
+  return r.column(name);
+}
+
 bool computeMetrics(const Recording& r, const MetricsWindow& w, RunMetrics& m, std::string& error) {
   m = RunMetrics{};
   // Truth where the simulation gives it.
-  auto source = [&](const char* name) {
-    const int truth = r.column(std::string("true_") + name);
-    if (truth >= 0 && r.frames() > 0 && std::isfinite(r.at(0, truth))) return truth;
-    return r.column(name);
-  };
+  auto source = [&](const char* name) { return truthOrEstimate(r, name); };
   const int t = 0, mode = r.column("mode"), vFwd = source("v_fwd"), z = source("z"),
             roll = source("roll"), pitch = source("pitch"), yaw = source("yaw"),
             cmdVx = r.column("cmd_vx"), cmdRoll = r.column("cmd_roll"),

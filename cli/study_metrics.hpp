@@ -47,6 +47,10 @@ struct RunMetrics {
   std::size_t samples = 0;  ///< frames in the window (before the fall)
 };
 
+/// The column true_NAME where the recording has ground truth (its first value finite), else
+/// NAME (the estimate); -1 if neither is there.
+int truthOrEstimate(const Recording& r, const std::string& name);
+
 /// The metrics of a run over a window; false with a message when a column they need is
 /// missing or the window holds no frame. A robot that fell before the window has no figures:
 /// they are NaN, samples 0.
