@@ -474,14 +474,7 @@ void ControlLoop::handOffScan() {
     scan.sensor_offset[k] = view.sensor_offset[k];
     scan.sensor_rpy[k] = view.sensor_rpy[k];
   }
-  const EstimatedState& est = input_.state;
-  scan.base = est.base;
-  scan.num_joints = est.num_joints;
-  std::memcpy(scan.q, est.q, sizeof(scan.q));
-  for (int c = 0; c < kNumContacts; ++c) {
-    scan.contact[c] = est.contact[c];
-    for (int k = 0; k < 3; ++k) scan.contact_position[c][k] = est.contact_position[c][k];
-  }
+  scan.state = input_.state;
   mapper_->handOff();
   if (options_.lockstep) {
     scan_pending_ = scan.index;

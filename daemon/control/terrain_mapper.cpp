@@ -15,6 +15,7 @@
 
 #include <octomap/OcTree.h>
 
+#include "control/model_state.hpp"
 #include "control/mpc_planner.hpp"
 #include "model/base_conventions.hpp"
 #include "model/forward_kinematics.hpp"
@@ -112,8 +113,9 @@ void TerrainMapper::insert(const LidarScan& scan) {
   double reference = 0.0;
   bool feet = false;
   for (int c = 0; c < kNumContacts; ++c)
-    if (scan.contact[c]) {
-      reference = feet ? std::min(reference, scan.contact_position[c][2]) : scan.contact_position[c][2];
+    if (scan.state.contact[c]) {
+      const double z = scan.state.contact_position[c][2];
+      reference = feet ? std::min(reference, z) : z;
       feet = true;
     }
   if (feet) map_.setReference(reference);
@@ -128,10 +130,8 @@ void TerrainMapper::insert(const LidarScan& scan) {
       problem_ = why;
       return;
     }
-    model::VecX<double> q(model_.nq);
-    for (int k = 0; k < 3; ++k) q[k] = scan.base.position[k];
-    for (int k = 0; k < 4; ++k) q[3 + k] = scan.base.orientation[k];
-    for (int j = 0; j < model_.nj(); ++j) q[7 + j] = j < scan.num_joints ? scan.q[j] : 0.0;
+    Eigen::VectorXd q(model_.nq), v(model_.nv);
+    toModelState(model_, scan.state, q, v);
     model::Data<double> data(model_);
     model::forwardKinematics(model_, data, q);
     // world <- link (the estimate) * link <- sensor (its mount, URDF's fixed-axis rpy).
@@ -158,16 +158,16 @@ void TerrainMapper::publish(std::uint64_t handoff_ns) {
   if (planner_) planner_->setTerrain(map_.heights(), last_index_, handoff_ns);
 }
 
-void TerrainMapper::seed(const octomap::OcTree& tree, const std::string& path) {
+void TerrainMapper::seed(const octomap::OcTree& tree, const std::string& path, double ground) {
   std::lock_guard<std::mutex> lock(mutex_);
-  map_.seed(tree, path);
+  map_.seed(tree, ground, path);
   seeded_ = path;
   publish(0);
 }
 
-void TerrainMapper::clear(bool floor) {
+void TerrainMapper::clear(double ground, bool floor) {
   std::lock_guard<std::mutex> lock(mutex_);
-  map_.clear(floor);
+  map_.clear(ground, floor);
   seeded_.clear();
   publish(0);
 }

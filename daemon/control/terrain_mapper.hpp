@@ -75,11 +75,7 @@ struct LidarScan {
   char sensor_link[backend::kNameLength] = {};  ///< the link the sensor is mounted on
   double sensor_offset[3] = {}, sensor_rpy[3] = {};  ///< its placement there
   double origin[3] = {};
-  BaseState base;  ///< estimated, that tick
-  int num_joints = 0;
-  double q[kMaxJoints] = {};
-  bool contact[kNumContacts] = {};
-  double contact_position[kNumContacts][3] = {};
+  EstimatedState state;  ///< that tick's: where the sensor was and where the stance feet are
   std::array<float, 3 * kMaxPoints> xyz{};
 };
 
@@ -112,13 +108,14 @@ class TerrainMapper {
   void waitFor(std::uint64_t index);
 
   // ---- IO thread ----
-  /// Seeds the map with `tree` (`ballast map load`, terrain.map at start); throws
-  /// terrain::MapError as HeightMap::fromOcTree does, leaving the map as it was.
-  void seed(const octomap::OcTree& tree, const std::string& path);
-  /// Forgets everything: every column unknown (`ballast map clear`), or with `floor` the
-  /// profile's flat floor known where no scan finds ground (a profile without a map file, at
-  /// start and when switched to; LiveMap::clear).
-  void clear(bool floor = false);
+  /// Seeds the map with `tree` (`ballast map load`, terrain.map at start, a profile switch),
+  /// unknown columns at `ground`; throws terrain::MapError as HeightMap::fromOcTree does,
+  /// leaving the map as it was.
+  void seed(const octomap::OcTree& tree, const std::string& path, double ground);
+  /// Forgets everything: every column unknown, at `ground` (`ballast map clear`), or with
+  /// `floor` the profile's flat floor at `ground` known where no scan finds ground (a profile
+  /// without a map file, at start and when switched to; LiveMap::clear).
+  void clear(double ground, bool floor = false);
   /// Writes the map (.bt); false with a message naming the file.
   bool save(const std::string& path, std::string& error);
   /// What `map info` shows of the live map.

@@ -31,7 +31,7 @@ Daemon::Daemon(const DaemonOptions& options) {
   context_.map = server::TerrainMap(ground);
   if (!settings_.terrain_map.empty()) {
     std::string error;
-    if (!context_.map.load(settings_.terrain_map, ground, error))
+    if (!context_.map.load(settings_.terrain_map, ground, settings_.mapping.map.rule, error))
       throw StartupError(problem(&settings_.terrain_map, error));
   }
   // The backend: its own profile section, the robot, the contact points, the control period.
@@ -107,11 +107,11 @@ Daemon::Daemon(const DaemonOptions& options) {
   context_.backend_name = caps.name;
   context_.simulation = caps.simulation;
 
-  // The planner (it reads the terrain map's height grid; `map load` and profile switches hand it
-  // new ones), the loop, telemetry.
+  // The planner (on the flat floor until the live map below hands it its grid), the loop,
+  // telemetry.
   try {
-    planner_ = std::make_unique<control::MpcPlanner>(*model_, settings_.control,
-                                                     context_.map.heights());
+    planner_ = std::make_unique<control::MpcPlanner>(
+        *model_, settings_.control, std::make_shared<const terrain::HeightMap>(ground));
   } catch (const std::exception& e) {
     fail(std::string("planner: ") + e.what());
   }
@@ -130,10 +130,7 @@ Daemon::Daemon(const DaemonOptions& options) {
   // on and the backend has a lidar; the planner plans on its grid.
   try {
     mapper_ = std::make_unique<control::TerrainMapper>(*model_, settings_.mapping, planner_.get());
-    if (context_.map.loaded())
-      mapper_->seed(context_.map.tree(), context_.map.path());
-    else
-      mapper_->clear(true);  // no map file: the profile's flat floor, known
+    context_.map.handTo(*mapper_);
   } catch (const terrain::MapError& e) {
     fail(problem(&settings_.mapping.map.resolution, e.what()));
   }

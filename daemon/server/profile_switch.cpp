@@ -115,10 +115,10 @@ void Server::switchProfile(Client* c, const json& id, const std::string& name) {
   std::unique_ptr<TerrainMap> map;
   const std::string& m = all->terrain_map;
   const double ground = all->control.ground_height;
-  if (m != ctx_.map.path() || ground != ctx_.map.heights()->ground()) {
+  if (m != ctx_.map.path() || ground != ctx_.map.ground()) {
     map = std::make_unique<TerrainMap>(ground);
     std::string error;
-    if (!m.empty() && !map->load(m, ground, error)) {
+    if (!m.empty() && !map->load(m, ground, all->mapping.map.rule, error)) {
       refuse(protocol::kInvalidProfile,
              next->problem(profile::keyOf(*all, &all->terrain_map), error) + "\n(profile " +
                  ctx_.profile->name() + " stays in force)");
@@ -154,17 +154,10 @@ void Server::finishSwitch(Pending& p, bool applied, const char* message) {
     if (ctx_.planner) ctx_.planner->requestSettings(p.settings);
     if (p.map) {
       ctx_.map = std::move(*p.map);
-      if (ctx_.mapper) {
-        try {
-          if (ctx_.map.loaded())
-            ctx_.mapper->seed(ctx_.map.tree(), ctx_.map.path());
-          else
-            ctx_.mapper->clear(true);  // no map file: its flat floor
-        } catch (const std::exception& e) {  // the tree was read and its grid built already
-          spdlog::error("profile {}: the live map keeps its terrain: {}", p.profile->name(), e.what());
-        }
-      } else if (ctx_.planner) {
-        ctx_.planner->setTerrain(ctx_.map.heights());
+      try {
+        ctx_.map.handTo(*ctx_.mapper);
+      } catch (const std::exception& e) {  // the tree was read and checked already
+        spdlog::error("profile {}: the live map keeps its terrain: {}", p.profile->name(), e.what());
       }
     }
     spdlog::info("profile {} in force ({})", p.profile->name(), message);

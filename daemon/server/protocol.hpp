@@ -49,7 +49,9 @@ inline constexpr const char* kPermissionDenied = "permission_denied";  // uid no
 inline constexpr const char* kTooManyClients = "too_many_clients";
 inline constexpr const char* kShuttingDown = "shutting_down";
 
-enum class FieldType { kNumber, kInteger, kString, kBool, kVector3 };
+/// kPath: a string holding an absolute path (the daemon's working directory is not the
+/// client's, so a relative one would name another file).
+enum class FieldType { kNumber, kInteger, kString, kPath, kBool, kVector3 };
 
 struct Field {
   const char* name;
@@ -100,7 +102,7 @@ inline constexpr Field kNameField[] = {
 inline constexpr Field kOptionalNameField[] = {
     {"name", FieldType::kString, 0, 0, false, "profile name or path (default: the running one)"}};
 inline constexpr Field kPathField[] = {
-    {"path", FieldType::kString, 0, 0, true, "absolute path on the daemon's machine"}};
+    {"path", FieldType::kPath, 0, 0, true, "absolute path on the daemon's machine"}};
 
 inline constexpr Command kCommands[] = {
     {"version", false, kNoFields, 0, "daemon and protocol version"},
@@ -175,6 +177,8 @@ inline const char* fieldTypeName(FieldType t) {
       return "an integer";
     case FieldType::kString:
       return "a string";
+    case FieldType::kPath:
+      return "an absolute path";
     case FieldType::kBool:
       return "true or false";
     case FieldType::kVector3:

@@ -60,7 +60,8 @@ struct DaemonContext {
   std::string backend_name;
   bool simulation = false;
   TerrainMap map;  ///< the file map last loaded (`map load`, terrain.map), if any
-  /// The live map the planner plans on: seeded from `map`, fed the lidar's scans (daemon only).
+  /// The live map the planner plans on: seeded from `map`, fed the lidar's scans (set before
+  /// the server runs).
   control::TerrainMapper* mapper = nullptr;
 };
 

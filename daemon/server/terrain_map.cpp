@@ -2,31 +2,37 @@
 
 #include <octomap/OcTree.h>
 
+#include "control/terrain_mapper.hpp"
 #include "terrain/octree_file.hpp"
 
 namespace ballast::server {
 
-TerrainMap::TerrainMap(double ground)
-    : heights_(std::make_shared<const terrain::HeightMap>(ground)) {}
+TerrainMap::TerrainMap(double ground) : ground_(ground) {}
 TerrainMap::~TerrainMap() = default;
 TerrainMap::TerrainMap(TerrainMap&&) noexcept = default;
 TerrainMap& TerrainMap::operator=(TerrainMap&&) noexcept = default;
 
-bool TerrainMap::load(const std::string& path, double ground, std::string& error) {
+bool TerrainMap::load(const std::string& path, double ground, const terrain::GroundRule& rule,
+                      std::string& error) {
   std::shared_ptr<octomap::OcTree> tree;
-  std::shared_ptr<const terrain::HeightMap> heights;
   try {
     tree = terrain::readOcTree(path);
-    heights = std::make_shared<const terrain::HeightMap>(
-        terrain::HeightMap::fromOcTree(*tree, ground, path, terrain::GroundRule{ground}));
+    terrain::HeightMap::check(*tree, path, rule);
   } catch (const terrain::MapError& e) {
     error = e.what();
     return false;
   }
   tree_ = std::move(tree);
-  heights_ = std::move(heights);
   path_ = path;
+  ground_ = ground;
   return true;
+}
+
+void TerrainMap::handTo(control::TerrainMapper& mapper) const {
+  if (tree_)
+    mapper.seed(*tree_, path_, ground_);
+  else
+    mapper.clear(ground_, true);
 }
 
 nlohmann::json TerrainMap::info() const {
@@ -38,12 +44,7 @@ nlohmann::json TerrainMap::info() const {
           {"resolution", tree_->getResolution()},
           {"leaves", tree_->getNumLeafNodes()},
           {"min", {x0, y0, z0}},
-          {"max", {x1, y1, z1}},
-          {"heights",
-           {{"columns", {heights_->columnsX(), heights_->columnsY()}},
-            {"known", heights_->knownColumns()},
-            {"ground", heights_->ground()},
-            {"clearance", heights_->rule().clearance}}}};
+          {"max", {x1, y1, z1}}};
 }
 
 }  // namespace ballast::server

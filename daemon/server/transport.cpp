@@ -95,6 +95,14 @@ std::string validate(const protocol::Command& spec, const json& request, const c
       case protocol::FieldType::kString:
         if (!value.is_string()) return wrongType();
         break;
+      case protocol::FieldType::kPath:
+        if (!value.is_string()) return wrongType();
+        if (value.get<std::string>().empty() || value.get<std::string>()[0] != '/') {
+          code = protocol::kOutOfRange;
+          return std::string(spec.name) + ": " + key + " must be absolute (the daemon's working " +
+                 "directory is not yours), got '" + value.get<std::string>() + "'";
+        }
+        break;
       case protocol::FieldType::kBool:
         if (!value.is_boolean()) return wrongType();
         break;

@@ -123,31 +123,26 @@ void Server::advance(Client& c, const Request& r) {
 void Server::mapLoad(Client& c, const Request& r) {
   std::string error;
   const std::string path = r.text("path");
-  if (!ctx_.map.load(path, ctx_.settings->ground_height, error)) {
+  TerrainMap map;
+  if (!map.load(path, ctx_.settings->ground_height, ctx_.mapper->settings().map.rule, error)) {
     fail(c.fd, r.id, access(path.c_str(), R_OK) == 0 ? protocol::kIoError : protocol::kNotFound,
          error + "; the map in use stays");
     return;
   }
-  if (ctx_.mapper) {
-    try {
-      ctx_.mapper->seed(ctx_.map.tree(), path);  // hands the planner its grid
-    } catch (const terrain::MapError& e) {
-      fail(c.fd, r.id, protocol::kIoError, std::string(e.what()) + "; the map in use stays");
-      return;
-    }
-  } else if (ctx_.planner) {
-    ctx_.planner->setTerrain(ctx_.map.heights());
+  try {
+    map.handTo(*ctx_.mapper);  // hands the planner its grid
+  } catch (const terrain::MapError& e) {
+    fail(c.fd, r.id, protocol::kIoError, std::string(e.what()) + "; the map in use stays");
+    return;
   }
+  ctx_.map = std::move(map);
   spdlog::info("terrain map {} loaded", path);
   reply(c.fd, r.id, mapReply());
 }
 
 void Server::mapClear(Client& c, const Request& r) {
   ctx_.map = TerrainMap(ctx_.settings->ground_height);
-  if (ctx_.mapper)
-    ctx_.mapper->clear();
-  else if (ctx_.planner)
-    ctx_.planner->setTerrain(ctx_.map.heights());
+  ctx_.mapper->clear(ctx_.map.ground());
   spdlog::info("terrain map cleared");
   reply(c.fd, r.id, mapReply());
 }
@@ -155,14 +150,6 @@ void Server::mapClear(Client& c, const Request& r) {
 void Server::mapSave(Client& c, const Request& r) {
   const std::string path = r.text("path");
   std::string error;
-  if (path.empty() || path[0] != '/') {
-    fail(c.fd, r.id, protocol::kOutOfRange, "map save: the path must be absolute, got '" + path + "'");
-    return;
-  }
-  if (!ctx_.mapper) {
-    fail(c.fd, r.id, protocol::kRefused, "map save: no live map");
-    return;
-  }
   if (!ctx_.mapper->save(path, error)) {
     fail(c.fd, r.id, protocol::kIoError, error);
     return;
@@ -174,9 +161,7 @@ void Server::mapSave(Client& c, const Request& r) {
 }
 
 nlohmann::json Server::mapReply() {
-  nlohmann::json j = {{"map", ctx_.map.info()}};
-  if (ctx_.mapper) j["live"] = ctx_.mapper->info();
-  return j;
+  return {{"map", ctx_.map.info()}, {"live", ctx_.mapper->info()}};
 }
 
 void Server::mapInfo(Client& c, const Request& r) { reply(c.fd, r.id, mapReply()); }
@@ -184,11 +169,6 @@ void Server::mapInfo(Client& c, const Request& r) { reply(c.fd, r.id, mapReply()
 void Server::recordStart(Client& c, const Request& r) {
   const std::string path = r.text("path");
   std::string error;
-  if (path.empty() || path[0] != '/') {
-    fail(c.fd, r.id, protocol::kOutOfRange,
-         "record_start: path must be absolute (the daemon's working directory is not yours)");
-    return;
-  }
   control::RecordingInfo info;
   if (ctx_.model) info = control::recordingInfo(ctx_.profile ? ctx_.profile->name() : "", *ctx_.model);
   if (!ctx_.writer->startRecording(path, error, info)) {

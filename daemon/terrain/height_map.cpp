@@ -47,41 +47,55 @@ std::string metresText(double m) {
 
 HeightMap::HeightMap(double ground) : ground_(ground) {}
 
-HeightMap HeightMap::fromOcTree(const octomap::OcTree& tree, double ground, const std::string& path,
-                                const GroundRule& rule) {
+HeightMap::Extent HeightMap::groundExtent(const octomap::OcTree& tree, const std::string& path,
+                                          const GroundRule& rule) {
   const auto fail = [&](const std::string& why) {
     return MapError(path.empty() ? why : "map " + path + ": " + why);
   };
   const double res = tree.getResolution();
   if (!(res >= 1e-3 && res <= 1.0))
     throw fail("cells of " + metresText(res) + " m: a terrain map's cells are 1 mm to 1 m");
-  long x0 = std::numeric_limits<long>::max(), y0 = x0;
-  long x1 = std::numeric_limits<long>::min(), y1 = x1;
+  Extent e{std::numeric_limits<long>::max(), std::numeric_limits<long>::max(),
+           std::numeric_limits<long>::min(), std::numeric_limits<long>::min()};
   std::size_t occupied = 0;
   for (auto it = tree.begin_leafs(), end = tree.end_leafs(); it != end; ++it) {
     if (!tree.isNodeOccupied(*it)) continue;
     ++occupied;
     const Footprint f = footprint(it, res, rule);
     if (!f.ground) continue;
-    x0 = std::min(x0, f.x0), x1 = std::max(x1, f.x1);
-    y0 = std::min(y0, f.y0), y1 = std::max(y1, f.y1);
+    e.x0 = std::min(e.x0, f.x0), e.x1 = std::max(e.x1, f.x1);
+    e.y0 = std::min(e.y0, f.y0), e.y1 = std::max(e.y1, f.y1);
   }
   if (occupied == 0) throw fail("the map has no occupied cells");
-  HeightMap map(ground);
-  map.rule_ = rule;
-  map.floorKnown_ = false;  // a map: what it does not show is not known
-  if (x1 <= x0) return map;  // all of it above the clearance: no ground known anywhere
-  map.nx_ = static_cast<std::size_t>(x1 - x0);
-  map.ny_ = static_cast<std::size_t>(y1 - y0);
-  if (map.nx_ > kMaxColumns / map.ny_) {
+  if (e.x1 <= e.x0) return e;  // all of it above the clearance: no ground known anywhere
+  const auto nx = static_cast<std::size_t>(e.x1 - e.x0), ny = static_cast<std::size_t>(e.y1 - e.y0);
+  if (nx > kMaxColumns / ny) {
     const auto metres = [&](std::size_t n) {
       return std::to_string(static_cast<long>(std::lround(static_cast<double>(n) * res)));
     };
-    throw fail("the map's ground covers " + metres(map.nx_) + " m × " + metres(map.ny_) + " m (" +
-               std::to_string(map.nx_) + " × " + std::to_string(map.ny_) + " cells of " +
+    throw fail("the map's ground covers " + metres(nx) + " m × " + metres(ny) + " m (" +
+               std::to_string(nx) + " × " + std::to_string(ny) + " cells of " +
                metresText(res) + " m): too large for a height grid (at most " +
                std::to_string(kMaxColumns) + " columns)");
   }
+  return e;
+}
+
+void HeightMap::check(const octomap::OcTree& tree, const std::string& path, const GroundRule& rule) {
+  groundExtent(tree, path, rule);
+}
+
+HeightMap HeightMap::fromOcTree(const octomap::OcTree& tree, double ground, const std::string& path,
+                                const GroundRule& rule) {
+  const Extent e = groundExtent(tree, path, rule);
+  const long x0 = e.x0, y0 = e.y0, x1 = e.x1, y1 = e.y1;
+  const double res = tree.getResolution();
+  HeightMap map(ground);
+  map.rule_ = rule;
+  map.floorKnown_ = false;  // a map: what it does not show is not known
+  if (x1 <= x0) return map;
+  map.nx_ = static_cast<std::size_t>(x1 - x0);
+  map.ny_ = static_cast<std::size_t>(y1 - y0);
   map.resolution_ = res;
   map.inverseResolution_ = 1.0 / res;
   map.xMin_ = static_cast<double>(x0) * res;

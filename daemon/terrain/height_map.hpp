@@ -81,6 +81,9 @@ class HeightMap {
   /// kMaxColumns columns; the message names `path` (the tree's file) if given.
   static HeightMap fromOcTree(const octomap::OcTree& tree, double ground,
                               const std::string& path = "", const GroundRule& rule = {});
+  /// Throws MapError where fromOcTree would, without building the grid: one pass over the
+  /// leaves, for a file that must be known usable before it is handed on.
+  static void check(const octomap::OcTree& tree, const std::string& path, const GroundRule& rule);
   /// readOcTree(path) then fromOcTree; every MapError names the file ("map <path>: ...").
   static HeightMap fromFile(const std::string& path, double ground, const GroundRule& rule = {});
 
@@ -130,6 +133,13 @@ class HeightMap {
       return kOff;
     return static_cast<std::size_t>(fy) * nx_ + static_cast<std::size_t>(fx);
   }
+  /// The columns of `tree`'s ground under `rule` ([x0, x1) × [y0, y1), empty when none), after
+  /// the checks fromOcTree documents.
+  struct Extent {
+    long x0, y0, x1, y1;
+  };
+  static Extent groundExtent(const octomap::OcTree& tree, const std::string& path,
+                             const GroundRule& rule);
   /// Column i (without ground) as a filled hole (see the header comment): its height in h.
   bool filled(std::size_t i, double& h) const;
 

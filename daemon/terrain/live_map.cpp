@@ -201,16 +201,18 @@ void LiveMap::rebuild() {
   grid_.floorKnown_ = floor;
 }
 
-void LiveMap::seed(const octomap::OcTree& tree, const std::string& path) {
-  HeightMap grid = HeightMap::fromOcTree(tree, settings_.ground, path, grid_.rule_);
+void LiveMap::seed(const octomap::OcTree& tree, double ground, const std::string& path) {
+  HeightMap grid = HeightMap::fromOcTree(tree, ground, path, grid_.rule_);
   auto copy = std::make_unique<octomap::OcTree>(tree);
   configureTree(*copy);
+  settings_.ground = ground;
   tree_ = std::move(copy);
   grid_ = std::move(grid);
   builtReference_ = grid_.rule_.reference;
 }
 
-void LiveMap::clear(bool floor) {
+void LiveMap::clear(double ground, bool floor) {
+  settings_.ground = ground;
   // Back to the profile's resolution (a seeded file's stays only as long as its cells).
   tree_ = std::make_unique<octomap::OcTree>(settings_.resolution);
   configureTree(*tree_);

@@ -85,14 +85,15 @@ class LiveMap {
   ScanUpdate insert(const float* xyz, int count, const ScanPose& pose,
                     const std::array<double, 3>& origin);
   /// Replaces the map with a copy of `tree` (`ballast map load`): its cells, and its resolution
-  /// from then on; the grid is rebuilt. Throws MapError as HeightMap::fromOcTree does, leaving
-  /// the map as it was.
-  void seed(const octomap::OcTree& tree, const std::string& path = "");
-  /// Forgets everything (`ballast map clear`): the tree back at settings().resolution, and
-  /// every column unknown; or, `floor`, the floor at the ground default known where no scan
-  /// finds ground (a profile without a map file, whose floor is flat: HeightMap::floorKnown).
-  /// A new LiveMap knows nothing.
-  void clear(bool floor = false);
+  /// from then on, and `ground` the ground default (terrain.ground_height, which a profile
+  /// switch may change); the grid is rebuilt. Throws MapError as HeightMap::fromOcTree does,
+  /// leaving the map as it was.
+  void seed(const octomap::OcTree& tree, double ground, const std::string& path = "");
+  /// Forgets everything (`ballast map clear`): the tree back at settings().resolution, `ground`
+  /// the ground default, and every column unknown; or, `floor`, the floor at the ground default
+  /// known where no scan finds ground (a profile without a map file, whose floor is flat:
+  /// HeightMap::floorKnown). A new LiveMap knows nothing.
+  void clear(double ground, bool floor = false);
   /// Moves the ground rule's reference (the feet's height). The grid is rebuilt from the tree
   /// when it moved by more than a quarter of the clearance since the last build; true if so.
   bool setReference(double z);

@@ -64,8 +64,8 @@ LidarScan scanOfTheBox(const model::Model& m, const double base[3]) {
   scan.index = 1;
   scan.sensor_frame = true;
   std::snprintf(scan.sensor_link, sizeof(scan.sensor_link), "lidar");
-  for (int k = 0; k < 3; ++k) scan.base.position[k] = base[k];
-  scan.num_joints = m.nj();
+  for (int k = 0; k < 3; ++k) scan.state.base.position[k] = base[k];
+  scan.state.num_joints = m.nj();
   int n = 0;
   for (double x = 0.3; x < 2.0; x += 0.02)
     for (double y = -0.5; y < 0.5; y += 0.02) {
@@ -75,7 +75,7 @@ LidarScan scanOfTheBox(const model::Model& m, const double base[3]) {
       ++n;
     }
   scan.count = n;
-  for (int c = 0; c < kNumContacts; ++c) scan.contact[c] = true;  // feet at z = 0
+  for (int c = 0; c < kNumContacts; ++c) scan.state.contact[c] = true;  // feet at z = 0
   return scan;
 }
 
@@ -114,7 +114,7 @@ TEST(TerrainMapper, PlacesSensorFrameScansByTheHandedOffPoseAndFeedsThePlanner) 
   EXPECT_TRUE(info.contains("latency_ms"));
 
   // Cleared: nothing known; the planner gets that map too.
-  mapper.clear();
+  mapper.clear(0.0);
   ASSERT_TRUE(terrain.refresh());
   EXPECT_FALSE(terrain.known(1.5, 0.0));
 }

@@ -114,7 +114,7 @@ TEST(LiveMap, WithoutAMapFileTheFloorIsKnownWhereNoScanFoundGround) {
   LiveMap live(settings());
   EXPECT_FALSE(live.grid().floorKnown());  // new: nothing known
   EXPECT_FALSE(live.grid().known(0.0, 0.0));
-  live.clear(true);
+  live.clear(-1.0, true);
   EXPECT_TRUE(live.grid().known(0.0, 0.0));
   EXPECT_TRUE(live.heights()->known(30.0, -7.0));
   EXPECT_EQ(live.heights()->height(30.0, -7.0), -1.0);
@@ -130,9 +130,13 @@ TEST(LiveMap, WithoutAMapFileTheFloorIsKnownWhereNoScanFoundGround) {
   // A rebuild (the feet moved up) keeps it; `map clear` knows nothing again.
   EXPECT_TRUE(live.setReference(0.2));
   EXPECT_TRUE(live.grid().known(1.6, 0.0));
-  live.clear();
+  live.clear(-1.0);
   EXPECT_FALSE(live.grid().known(1.6, 0.0));
   EXPECT_FALSE(live.heights()->known(30.0, -7.0));
+  // A profile switch to another floor height: the floor is there from then on.
+  live.clear(-2.0, true);
+  EXPECT_TRUE(live.heights()->known(30.0, -7.0));
+  EXPECT_EQ(live.heights()->height(30.0, -7.0), -2.0);
 }
 
 TEST(LiveMap, RaysClearWhatIsNoLongerThere) {
@@ -211,11 +215,11 @@ TEST(LiveMap, ClearSeedSaveAndTheReference) {
   const auto read = readOcTree(file);
   EXPECT_EQ(read->getNumLeafNodes(), live.tree().getNumLeafNodes());
 
-  live.clear();
+  live.clear(-1.0);
   EXPECT_EQ(live.grid().knownColumns(), 0u);
   EXPECT_EQ(live.heights()->height(0.6, 0.0), -1.0);
 
-  live.seed(*read, file);
+  live.seed(*read, -1.0, file);
   EXPECT_NEAR(live.grid().height(1.1, 0.0), 0.15, 0.04);
   EXPECT_GT(live.grid().knownColumns(), 1000u);
   // Scans go on into the seeded map.
