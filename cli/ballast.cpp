@@ -235,7 +235,7 @@ int plot(const PlotRequest& r, const Options& o) {
     if (!f) return refuse(o, "io_error", "cannot write " + temp + ": " + std::strerror(errno));
     std::string truncation;
     std::uint64_t frames = 0;
-    const bool ok = blog::convert(r.file, f, slice, error, &truncation, &frames);
+    const bool ok = blog::convert(r.file, f, slice, error, &truncation, &frames) == blog::Converted::kOk;
     std::fclose(f);
     if (!ok || frames == 0) {
       std::remove(temp.c_str());
@@ -378,11 +378,15 @@ int logCmd(const LogOptions& l, const Options& o) {
   }
   std::string truncation;
   std::uint64_t frames = 0;
-  const bool ok = blog::convert(l.file, f, slice, error, &truncation, &frames);
+  const blog::Converted done = blog::convert(l.file, f, slice, error, &truncation, &frames);
   if (f != stdout) std::fclose(f);
-  if (!ok) {
+  if (done != blog::Converted::kOk) {
     if (f != stdout) std::remove(l.out.c_str());
-    return refuse(o, error.rfind("no column", 0) == 0 ? "no_such_column" : "bad_recording", error);
+    return refuse(o,
+                  done == blog::Converted::kNoSuchColumn ? "no_such_column"
+                  : done == blog::Converted::kCannotWrite ? "io_error"
+                                                          : "bad_recording",
+                  error);
   }
   if (!truncation.empty())
     std::fprintf(stderr, "ballast log: %s is truncated (%s): converted up to its last complete block\n",

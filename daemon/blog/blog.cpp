@@ -600,13 +600,13 @@ void appendCsvField(std::string& line, const std::string& field) {
 
 }  // namespace
 
-bool convert(const std::string& path, std::FILE* out, const Slice& slice, std::string& error,
-             std::string* truncation, std::uint64_t* frames) {
+Converted convert(const std::string& path, std::FILE* out, const Slice& slice, std::string& error,
+                  std::string* truncation, std::uint64_t* frames) {
   Reader r;
-  if (!r.open(path, error)) return false;
+  if (!r.open(path, error)) return Converted::kBadRecording;
   const auto& cols = r.header().columns;
   std::vector<std::size_t> selected;
-  if (!selectColumns(cols, slice.columns, selected, error)) return false;
+  if (!selectColumns(cols, slice.columns, selected, error)) return Converted::kNoSuchColumn;
   const bool csv = slice.format == Slice::Format::kCsv;
   const char sep = csv ? ',' : '\t';
   std::string line = csv ? "" : "# ballast telemetry 1\n# ";
@@ -648,9 +648,9 @@ bool convert(const std::string& path, std::FILE* out, const Slice& slice, std::s
   if (frames) *frames = written;
   if (std::ferror(out)) {
     error = std::string("cannot write the ") + (csv ? "CSV" : "TSV") + ": " + std::strerror(errno);
-    return false;
+    return Converted::kCannotWrite;
   }
-  return true;
+  return Converted::kOk;
 }
 
 }  // namespace ballast::blog

@@ -183,11 +183,15 @@ struct Slice {
 bool selectColumns(const std::vector<Column>& columns, const std::vector<std::string>& patterns,
                    std::vector<std::size_t>& selected, std::string& error);
 
-/// Converts a .blog to text on out, as slice says. false with a message if the file cannot be
-/// read or a pattern matches nothing; a truncated file converts up to its last complete block and
-/// sets *truncation (if given) to why it ended early. *frames (if given): the frames written.
-bool convert(const std::string& path, std::FILE* out, const Slice& slice, std::string& error,
-             std::string* truncation = nullptr, std::uint64_t* frames = nullptr);
+/// What convert did: converted; or refused the file (unreadable, not a recording, a newer
+/// format) or the slice (a pattern that matches no column); or could not write the text.
+enum class Converted { kOk, kBadRecording, kNoSuchColumn, kCannotWrite };
+
+/// Converts a .blog to text on out, as slice says; anything but kOk comes with a message. A
+/// truncated file converts up to its last complete block and sets *truncation (if given) to why
+/// it ended early. *frames (if given): the frames written.
+Converted convert(const std::string& path, std::FILE* out, const Slice& slice, std::string& error,
+                  std::string* truncation = nullptr, std::uint64_t* frames = nullptr);
 
 /// CRC-32 (IEEE 802.3, as zlib's crc32).
 std::uint32_t crc32(const void* data, std::size_t size, std::uint32_t crc = 0);

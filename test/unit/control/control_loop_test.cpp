@@ -532,7 +532,7 @@ std::string blogAsTsv(const std::string& path) {
   const std::string out = path + ".tsv";
   std::FILE* f = std::fopen(out.c_str(), "w");
   std::string error, truncation;
-  EXPECT_TRUE(blog::convert(path, f, {}, error, &truncation)) << error;
+  EXPECT_EQ(blog::convert(path, f, {}, error, &truncation), blog::Converted::kOk) << error;
   std::fclose(f);
   EXPECT_TRUE(truncation.empty()) << truncation;
   std::string text = slurp(out);
