@@ -25,6 +25,9 @@ std::uint64_t monotonicNs() {
 
 namespace {
 
+static_assert(PlannerSlot::kLockstepTimeout == 10.0, "kPlannerStuck names the timeout");
+constexpr const char* kPlannerStuck = "the planner did not answer within 10 s of wall time (lockstep)";
+
 bool finite3(const double* x) {
   return std::isfinite(x[0]) && std::isfinite(x[1]) && std::isfinite(x[2]);
 }
@@ -327,13 +330,11 @@ void ControlLoop::planPost() {
     planning_ = true;
     bool timed_out = !planner_.post(planner_input_);
     if (planner_input_.restart) first_sequence_ = planner_input_.sequence;
-    if (timed_out)
-      raise(FaultKind::kPlanner, "the planner did not answer within 2 s of wall time (lockstep)");
+    if (timed_out) raise(FaultKind::kPlanner, kPlannerStuck);
   }
   bool timed_out = false;
   const PlannerOutput* p = planner_.latest(t_, timed_out);
-  if (timed_out)
-    raise(FaultKind::kPlanner, "the planner did not answer within 2 s of wall time (lockstep)");
+  if (timed_out) raise(FaultKind::kPlanner, kPlannerStuck);
   // A new answer, to an input from after the restart?
   if (p && p->sequence != plan_.sequence && p->sequence != failed_sequence_ &&
       p->sequence >= first_sequence_) {

@@ -57,13 +57,17 @@ class PlannerSlot {
   // Loop side.
   /// True when a new input is due at controller time t.
   bool due(double t) const { return available() && t + kTimeTolerance >= next_due_; }
+  /// Lockstep: how long the loop waits for an answer before it says the planner is stuck, s of
+  /// wall time. Generous, as simulated time waits for it: a solve is milliseconds, but a loaded
+  /// host (2 cores shared by a build and a map read) has starved the planner thread for 2 s.
+  static constexpr double kLockstepTimeout = 10.0;
   /// Posts an input (stamps its sequence). Real time: never waits. Lockstep: takes an answer
   /// still in flight first (false if it did not come within timeout_s of wall time).
-  bool post(PlannerInput& input, double timeout_s = 2.0);
+  bool post(PlannerInput& input, double timeout_s = kLockstepTimeout);
   /// The output the loop uses at controller time t, nullptr before the first one: real time,
   /// the newest; lockstep, the answer to the input in flight once t reaches its time (waiting
   /// for it at most timeout_s of wall time: timed_out says it did not come).
-  const PlannerOutput* latest(double t, bool& timed_out, double timeout_s = 2.0);
+  const PlannerOutput* latest(double t, bool& timed_out, double timeout_s = kLockstepTimeout);
 
  private:
   void run();
