@@ -14,34 +14,8 @@
 //     left_knee: {bus: can0, id: 4, torque: 300, direction: -1, offset: 0.1}
 //     ...
 //
-// Keys (name, type, default, bounds or choices, meaning):
-//   Buses
-//   buses                         strings [can0]                        CAN interfaces ("can0"), or fd:N for an emulated bus (an open SOCK_SEQPACKET socket carrying struct can_frame); at most 16
-//   bitrate                       number  1000000        [10000, 1e+06] bits per second of every bus (classic CAN)
-//   max_bus_load                  number  0.8            [0.1, 1]       largest share of a bus's time one tick's frames may take (configure refuses more; emulated buses have no limit)
-//   host_id                       integer 0              [0, 2047]      CAN id the motors reply to
-//   reply_timeout                 number  0.003          [0.0005, 1]    a motor silent this long (s) is a fault (damp)
-//   enable_timeout                number  0.5            [0.01, 10]     start(): how long (s) every motor has to answer the enable command
-//   lockstep_timeout              number  2              [0.01, 60]     lockstep (emulated buses): wall time (s) a tick waits for every reply
-//   zero_on_start                 bool    false                         start(): set every motor's present position as its zero (calibration pose only)
-//   disable_on_stop               bool    true                          stop(): take every motor out of motor mode
-//   log                           string  ""                            candump-format log of every frame sent and received ("": none)
-//
-//   IMU
-//   imu.enabled                   bool    true                          an IMU on the bus (imu_protocol.hpp); without it there is no estimate
-//   imu.bus                       string  ""                            its bus ("": the first)
-//   imu.id                        integer 256            [1, 2045]      CAN id of its first frame (it uses id, id + 1, id + 2)
-//   imu.timeout                   number  0.005          [0.001, 1]     an IMU silent this long (s) is a fault (damp)
-//
-//   Motor ranges (defaults of every motor's)
-//   ranges.position               number  12.5           [0.1, 1000]    ±rad the MIT position field spans
-//   ranges.velocity               number  45             [0.1, 1000]    ±rad/s of the velocity field
-//   ranges.torque                 number  0              [0, 10000]     ±N·m of the torque field: the motor firmware's T_MAX (0: each motor must give its own)
-//   ranges.kp                     number  500            [0.1, 100000]  N·m/rad the kp field spans from 0
-//   ranges.kd                     number  5              [0.01, 10000]  N·m·s/rad the kd field spans from 0
-//
-//   Motors
-//   motors                        map     {}                            URDF joint -> {bus, id, position, velocity, torque, kp, kd, direction (1 or -1), offset (rad)}; every movable joint needs one
+// Every key with its type, default, bounds and meaning: ballast-profile(5), section
+// backend.socketcan, generated from the table (`ballastd --dump-schema=man`).
 //
 // A motor's joint angle is q = offset + direction · p, with p the motor's position; velocity and
 // torque follow the direction. The ranges must be the motor firmware's own (P_MAX, V_MAX,
@@ -51,8 +25,6 @@
 // Bus time: a tick sends every motor an 8-byte command and gets a 6-byte reply (111 + 95 bits
 // on classic CAN, without bit stuffing), and the IMU's bus carries its three 8-byte frames; at
 // 1 Mbit/s and 1 kHz that is at most 3 motors on a bus at 80 % load (4 without the IMU).
-//
-// test/integration/socketcan/settings_test.cpp checks that this comment lists every key.
 #pragma once
 
 #include <array>

@@ -2,8 +2,6 @@
 // shares with the simbody backend, and the header's key reference in step with the table.
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <sstream>
 
 #include "mujoco_settings.hpp"
 
@@ -97,29 +95,6 @@ TEST(MujocoSettings, SharedKeysHaveTheSimbodyBackendsDefaultsAndBounds) {
     EXPECT_STREQ(key->defaultYaml, k.defaultYaml) << k.name;
     EXPECT_EQ(key->min, k.min) << k.name;
     EXPECT_EQ(key->max, k.max) << k.name;
-  }
-}
-
-TEST(MujocoSettings, TheHeaderCommentListsEveryKeyWithItsDefault) {
-  std::ifstream in(std::string(BALLAST_SOURCE_DIR) + "/plugins/mujoco/mujoco_settings.hpp");
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string header = text.str();
-  for (const SettingKey& key : mujocoSettingKeys()) {
-    std::istringstream lines(header);
-    bool found = false;
-    for (std::string line; std::getline(lines, line);) {
-      std::istringstream words(line);
-      std::string slashes, name;
-      words >> slashes >> name;
-      if (slashes == "//" && name == key.name) {
-        found = true;
-        EXPECT_NE(line.find(std::string(" ") + key.defaultYaml + " "), std::string::npos)
-            << key.name << ": the header does not give its default " << key.defaultYaml;
-      }
-    }
-    EXPECT_TRUE(found) << key.name << " is not in the header's key list\n"
-                       << mujocoSettingsReference();
   }
 }
 

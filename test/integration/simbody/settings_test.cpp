@@ -3,8 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
-#include <fstream>
-#include <sstream>
 
 #include "sim_settings.hpp"
 
@@ -132,29 +130,6 @@ TEST(SimSettings, EveryKeyAtItsDefaultReadsBackAsASection) {
   EXPECT_EQ(dumped.gravity, empty.gravity);
   EXPECT_EQ(dumped.integrator, empty.integrator);
   EXPECT_EQ(dumped.initial_joints, empty.initial_joints);
-}
-
-TEST(SimSettings, TheHeaderCommentListsEveryKeyWithItsDefault) {
-  std::ifstream in(std::string(BALLAST_SOURCE_DIR) + "/plugins/simbody/sim_settings.hpp");
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string header = text.str();
-  for (const SettingKey& key : simSettingKeys()) {
-    // The reference line of a key starts "//   <name> <type> <default>".
-    std::istringstream lines(header);
-    bool found = false;
-    for (std::string line; std::getline(lines, line);) {
-      std::istringstream words(line);
-      std::string slashes, name;
-      words >> slashes >> name;
-      if (slashes == "//" && name == key.name) {
-        found = true;
-        EXPECT_NE(line.find(std::string(" ") + key.defaultYaml + " "), std::string::npos)
-            << key.name << ": the header does not give its default " << key.defaultYaml;
-      }
-    }
-    EXPECT_TRUE(found) << key.name << " is not in the header's key list";
-  }
 }
 
 }  // namespace

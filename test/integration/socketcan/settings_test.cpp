@@ -3,8 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
-#include <fstream>
-#include <sstream>
 
 #include "socketcan_backend.hpp"
 #include "socketcan_settings.hpp"
@@ -186,28 +184,6 @@ TEST(SocketcanSettings, EveryKeyAtItsDefaultReadsBackAsASection) {
   }
   EXPECT_EQ(dumped.buses, empty.buses);
   EXPECT_EQ(dumped.motors.size(), empty.motors.size());
-}
-
-TEST(SocketcanSettings, TheHeaderCommentListsEveryKeyWithItsDefault) {
-  std::ifstream in(std::string(BALLAST_SOURCE_DIR) + "/plugins/socketcan/socketcan_settings.hpp");
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string header = text.str();
-  for (const SettingKey& key : socketcanSettingKeys()) {
-    std::istringstream lines(header);
-    bool found = false;
-    for (std::string line; std::getline(lines, line);) {
-      std::istringstream words(line);
-      std::string slashes, name, type, value;
-      words >> slashes >> name >> type >> value;
-      if (slashes == "//" && name == key.name) {
-        found = true;
-        EXPECT_EQ(type, key.shortType()) << key.name;
-        EXPECT_EQ(value, key.defaultYaml) << key.name;
-      }
-    }
-    EXPECT_TRUE(found) << key.name << " is not in the header comment";
-  }
 }
 
 }  // namespace
