@@ -171,7 +171,7 @@ const Schema<Settings> kTable({
   number("planner.swing_position_gain", "20", 0, 1e3, "1/s", "swing contact points: velocity = reference velocity + this gain times the position error").into<&S::control, &C::locomotion, &L::problem, &P::swingPositionGain>(),
 
   // ---- wbc: the whole-body controller (daemon/wbc; wbc/settings.hpp)
-  choice("wbc.variant", "hierarchical", "hierarchical|weighted|inverse_dynamics", "strict priorities (the paper's cH), one weighted QP (cNH), or that QP with the arms held at the plan's joint positions (cI's inverse dynamics)").into<&S::control, &C::wbc, &W::variant>(),
+  choice("wbc.variant", "hierarchical", "hierarchical|weighted|inverse_dynamics", "strict priorities (the paper's cH), one weighted QP (cNH), or that QP holding the limbs at the plan's joint positions without its limb velocities and accelerations (cI's inverse dynamics; with planner.model single_rigid_body, whose plans have no limb motion, the same as weighted; with the kino-dynamic planner, an ablation)").into<&S::control, &C::wbc, &W::variant>(),
   text("wbc.base_frame", "pelvis", "URDF link whose pose and twist the base task tracks; on the floating base").into<&S::control, &C::wbc, &W::baseFrame>(),
   strings("wbc.joint_space_joints", "[arms]", "joints tracked in joint space at priority 2 (the legs follow their feet): URDF joints or joint group names").into<&S::joints, &J::joint_space>(),
   number("wbc.swing_kp", "400", 0, 1e5, "1/s^2", "priority 2: swing contact point tracking stiffness (world frame)").into<&S::control, &C::wbc, &W::swingKp>(),
