@@ -116,6 +116,11 @@ void Server::switchProfile(Client* c, const json& id, const std::string& name) {
   const std::string& m = all->terrain_map;
   const double ground = all->control.ground_height;
   if (m != ctx_.map.path() || ground != ctx_.map.ground()) {
+    if (map_load_) {
+      refuse(protocol::kBusy, "profile " + next->name() + " changes the terrain map while " +
+                                  map_load_->path + " is loading: try again when it is in");
+      return;
+    }
     map = std::make_unique<TerrainMap>(ground);
     std::string error;
     if (!m.empty() && !map->load(m, ground, all->mapping.map.rule, error)) {

@@ -10,7 +10,8 @@
 // the loop only ever pushes into rings and publishes its status through a seqlock.
 //
 // By concern: transport.cpp (socket, clients, lines, signals), leases.cpp, verbs.cpp (the
-// handlers' table and the robot's commands), watch.cpp (status), profile_switch.cpp.
+// handlers' table and the robot's commands), map_verbs.cpp (the terrain map; a map load reads
+// on a thread of its own), watch.cpp (status), profile_switch.cpp.
 //
 // Security: the socket file is created mode 0660 in a directory ballastd creates 0750 if
 // missing; each connecting peer's uid (SO_PEERCRED) must be ballastd's own or listed in
@@ -24,6 +25,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -122,6 +124,16 @@ class Server {
     ServerConfig config;                        // ... and its server section
     std::unique_ptr<TerrainMap> map;  // ... and its terrain map, when it names another one
   };
+  /// A `map load` under way on its own thread (map_verbs.cpp).
+  struct MapLoad {
+    int client = -1;  // -1 once the client is gone
+    nlohmann::json id;
+    std::string path;
+    TerrainMap map;              // the thread's until it signals
+    const char* code = nullptr;  // the refusal's error code, or nullptr
+    std::string error;
+    std::thread thread;
+  };
   struct Lease {
     std::string token;
     uid_t uid = 0;
@@ -156,7 +168,7 @@ class Server {
   void leaseReturn(Client& c, const Request& r);
   void grantLease(Client& c, const Request& r, bool take);
 
-  // verbs.cpp: the robot's commands (through the loop's ring), the map, telemetry
+  // verbs.cpp: the robot's commands (through the loop's ring), telemetry
   void version(Client& c, const Request& r);
   void stand(Client& c, const Request& r);
   void walk(Client& c, const Request& r);
@@ -167,12 +179,18 @@ class Server {
   void passive(Client& c, const Request& r);
   void push(Client& c, const Request& r);
   void advance(Client& c, const Request& r);
+  // map_verbs.cpp: the terrain map
   void mapLoad(Client& c, const Request& r);
   void mapInfo(Client& c, const Request& r);
   void mapClear(Client& c, const Request& r);
   void mapSave(Client& c, const Request& r);
-  /// {"map": the file map's info or null, "live": the live map's}.
+  /// {"map": the file map's info or null, "live": the live map's, "loading": the file a map
+  /// load is reading, if any}.
   nlohmann::json mapReply();
+  /// The map load's thread is done (its eventfd is readable): the map in use, and the reply.
+  void finishMapLoad();
+  /// Shutting down: waits for a map load's thread (its reply goes nowhere).
+  void waitForMapLoad();
   void recordStart(Client& c, const Request& r);
   void recordStop(Client& c, const Request& r);
   /// Sends `command` to the loop; the reply goes to the client when the loop answers.
@@ -208,6 +226,8 @@ class Server {
   std::map<std::uint64_t, Pending> pending_;
   std::uint64_t sequence_ = 0;
   std::unique_ptr<Lease> lease_;
+  std::unique_ptr<MapLoad> map_load_;
+  int map_load_fd_ = -1;  // eventfd: the map load's thread is done
   StatusExtras extras_;
 };
 

@@ -199,6 +199,11 @@ void Server::open() {
 }
 
 void Server::close() {
+  waitForMapLoad();
+  if (map_load_fd_ >= 0) {
+    ::close(map_load_fd_);
+    map_load_fd_ = -1;
+  }
   for (auto& [fd, c] : clients_) ::close(fd);
   clients_.clear();
   if (listen_fd_ >= 0) {
@@ -218,6 +223,7 @@ void Server::run() {
     fds.push_back({listen_fd_, POLLIN, 0});
     fds.push_back({signal_fd_, POLLIN, 0});
     fds.push_back({ctx_.loop->wakeFd(), POLLIN, 0});
+    fds.push_back({map_load_fd_, POLLIN, 0});  // ignored by poll while -1
     for (auto& [fd, c] : clients_)
       fds.push_back({fd, static_cast<short>(POLLIN | (c.out.empty() ? 0 : POLLOUT)), 0});
 
@@ -234,8 +240,9 @@ void Server::run() {
 
     if (fds[1].revents & POLLIN) onSignal();
     if (fds[2].revents & POLLIN) onLoopReplies();
+    if (fds[3].revents & POLLIN) finishMapLoad();
     if (fds[0].revents & POLLIN) accept();
-    for (std::size_t i = 3; i < fds.size(); ++i) {
+    for (std::size_t i = 4; i < fds.size(); ++i) {
       const int fd = fds[i].fd;
       if (!clients_.count(fd)) continue;
       if (fds[i].revents & (POLLIN | POLLHUP | POLLERR)) readFrom(clients_.at(fd));
@@ -308,6 +315,10 @@ void Server::drop(int fd) {
   spdlog::debug("client disconnected: fd {}", fd);
   ::close(fd);
   clients_.erase(fd);
+  // What it waits for is answered to nobody, not to a client that gets the same fd later.
+  for (auto& [seq, p] : pending_)
+    if (p.client == fd) p.client = -1;
+  if (map_load_ && map_load_->client == fd) map_load_->client = -1;
 }
 
 void Server::readFrom(Client& c) {

@@ -10,8 +10,6 @@
 
 #include "common/format.hpp"  // plugins/common
 #include "server/server.hpp"
-#include "control/terrain_mapper.hpp"
-#include "terrain/octree_file.hpp"
 #include "server/server_detail.hpp"
 
 namespace ballast::server {
@@ -119,52 +117,6 @@ void Server::advance(Client& c, const Request& r) {
   oc.until = r.number("until", 0.0);
   submit(c, r, oc);
 }
-
-void Server::mapLoad(Client& c, const Request& r) {
-  std::string error;
-  const std::string path = r.text("path");
-  TerrainMap map;
-  if (!map.load(path, ctx_.settings->ground_height, ctx_.mapper->settings().map.rule, error)) {
-    fail(c.fd, r.id, access(path.c_str(), R_OK) == 0 ? protocol::kIoError : protocol::kNotFound,
-         error + "; the map in use stays");
-    return;
-  }
-  try {
-    map.handTo(*ctx_.mapper);  // hands the planner its grid
-  } catch (const terrain::MapError& e) {
-    fail(c.fd, r.id, protocol::kIoError, std::string(e.what()) + "; the map in use stays");
-    return;
-  }
-  ctx_.map = std::move(map);
-  spdlog::info("terrain map {} loaded", path);
-  reply(c.fd, r.id, mapReply());
-}
-
-void Server::mapClear(Client& c, const Request& r) {
-  ctx_.map = TerrainMap(ctx_.settings->ground_height);
-  ctx_.mapper->clear(ctx_.map.ground());
-  spdlog::info("terrain map cleared");
-  reply(c.fd, r.id, mapReply());
-}
-
-void Server::mapSave(Client& c, const Request& r) {
-  const std::string path = r.text("path");
-  std::string error;
-  if (!ctx_.mapper->save(path, error)) {
-    fail(c.fd, r.id, protocol::kIoError, error);
-    return;
-  }
-  spdlog::info("terrain map saved to {}", path);
-  nlohmann::json j = mapReply();
-  j["saved"] = path;
-  reply(c.fd, r.id, j);
-}
-
-nlohmann::json Server::mapReply() {
-  return {{"map", ctx_.map.info()}, {"live", ctx_.mapper->info()}};
-}
-
-void Server::mapInfo(Client& c, const Request& r) { reply(c.fd, r.id, mapReply()); }
 
 void Server::recordStart(Client& c, const Request& r) {
   const std::string path = r.text("path");

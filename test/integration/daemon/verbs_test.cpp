@@ -441,6 +441,40 @@ TEST_F(Verbs, MapLoadAndInfo) {
   fs::remove("relative.bt");
 }
 
+TEST_F(Verbs, AMapLoadLeavesTheServerAnswering) {
+  // A map of 3.2 million columns: reading it and building its grid takes seconds, on a thread
+  // of its own; meanwhile other clients are answered, and what would change the map is refused
+  // as busy.
+  const std::string big = (dir_ / "big.bt").string();
+  const Outcome made = runProgram({MKMAP, "flat", "--extent", "-90", "90", "-90", "90",
+                                   "--resolution", "0.1", "-o", big});
+  ASSERT_EQ(made.status, 0) << made.err;
+  Outcome r = cli({"lease", "acquire"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::string lease = readFile((dir_ / "lease-a").string());
+  lease = lease.substr(0, lease.find('\n'));
+  RawClient loader(daemon_->socket()), other(daemon_->socket());
+  ASSERT_TRUE(loader.send(json({{"id", 1}, {"cmd", "map_load"}, {"path", big}, {"lease", lease}}).dump()));
+  const json info = other.ask(R"({"id": 2, "cmd": "map_info"})");
+  EXPECT_EQ(info["loading"], big) << info.dump();
+  EXPECT_TRUE(info["map"].is_null()) << info.dump();  // not in use before it is in
+  const json status = other.ask(R"({"id": 3, "cmd": "status"})");
+  EXPECT_EQ(status["status"]["mode"], "stand") << status.dump();
+  const json again = other.ask(
+      json({{"id", 4}, {"cmd", "map_load"}, {"path", big}, {"lease", lease}}).dump());
+  EXPECT_EQ(again["error"]["code"], "busy") << again.dump();
+  const json clear = other.ask(json({{"id", 5}, {"cmd", "map_clear"}, {"lease", lease}}).dump());
+  EXPECT_EQ(clear["error"]["code"], "busy") << clear.dump();
+  const json loaded = loader.next(120);
+  ASSERT_EQ(loaded["ok"], true) << loaded.dump();
+  EXPECT_EQ(loaded["id"], 1);
+  EXPECT_EQ(loaded["map"]["path"], big);
+  EXPECT_EQ(loaded["live"]["heights"]["known"], 1800u * 1800u) << loaded["live"].dump();
+  EXPECT_FALSE(loaded.contains("loading"));
+  EXPECT_EQ(daemon_->status()["map"]["path"], big);
+  EXPECT_EQ(daemon_->status()["fallen"], false);
+}
+
 TEST_F(Verbs, LeaseAcquireTakeReturn) {
   // Client a holds the lease (acquired by its first motion command).
   ASSERT_EQ(cli({"stop"}, "a").status, 0);
