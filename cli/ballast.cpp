@@ -214,11 +214,9 @@ int plot(const PlotRequest& r, const Options& o) {
   p.title = !r.title.empty() ? r.title
                              : "ballast: " + fs::path(r.file).filename().string() + ", " + r.figure;
   std::string data = r.file, temp;
-  std::vector<blog::Group> limbs;
   if (blog::isBinaryLog(r.file)) {
     blog::Reader reader;
     if (!reader.open(r.file, error)) return refuse(o, "bad_recording", error);
-    limbs = reader.header().limbs;
     blog::Slice slice;
     slice.from = p.from;
     slice.to = p.to;
@@ -257,7 +255,6 @@ int plot(const PlotRequest& r, const Options& o) {
     }
     return refuse(o, "bad_recording", error);
   }
-  table.limbs = limbs;
   const bool ok = cli::runGnuplot(cli::plotScript(table, data, r.out, p), error);
   if (!temp.empty()) std::remove(temp.c_str());
   if (!ok) return refuse(o, "plot_failed", error);

@@ -47,7 +47,12 @@ bool readTelemetry(const std::string& path, TelemetryTable& t, std::string& erro
   t.has_data.assign(t.columns.size(), false);
   t.max.assign(t.columns.size(), -HUGE_VAL);
   while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
+    if (line.empty()) continue;
+    if (line[0] == '#') {
+      blog::Group limb;
+      if (blog::parseTextLimb(line, limb)) t.limbs.push_back(std::move(limb));
+      continue;
+    }
     const double time = std::strtod(line.c_str(), nullptr);
     if (!(time >= from && time <= to)) continue;
     ++t.rows;
@@ -277,7 +282,7 @@ void timing(Script& s, const TelemetryTable& t) {
               {{"MPC", kPalette[0], {"mpc_ms"}}, {"WBC", kPalette[1], {"wbc_ms"}}});
 }
 
-/// The limbs of the recording, or (a text recording has none) its joints six at a time.
+/// The limbs of the recording, or (one from before limbs were recorded) its joints six at a time.
 std::vector<blog::Group> limbsOf(const TelemetryTable& t) {
   if (!t.limbs.empty()) return t.limbs;
   std::vector<std::string> joints;

@@ -6,8 +6,8 @@
 //             friction the feet use (|f_t| / f_z)
 //   timing    MPC and WBC solve times and the tick's work and lateness over time, and the
 //             histograms of the lateness and of the solve times (log counts)
-//   joints    tracking error q - qref per joint, one panel per limb (from a .blog's header;
-//             a text recording has no limbs: six joints to a panel in file order)
+//   joints    tracking error q - qref per joint, one panel per limb (the recording's "limb"
+//             lines; one without them, from before they were written: six joints to a panel)
 // A .blog is first converted to a TSV of the figure's columns in the window (blog::convert); a
 // text recording is plotted as it is, the window applied by gnuplot.
 #pragma once
@@ -24,7 +24,7 @@ struct TelemetryTable {
   std::vector<bool> has_data;  ///< per column: some row holds a number (not NaN)
   std::vector<double> max;     ///< per column: the largest number (-inf if none)
   std::size_t rows = 0;
-  std::vector<blog::Group> limbs;  ///< the robot's limbs (a .blog's header), by joint name
+  std::vector<blog::Group> limbs;  ///< the robot's limbs (its "# limb" lines), by joint name
   int column(const std::string& name) const;  ///< 1-based (gnuplot's), 0 if absent
 };
 

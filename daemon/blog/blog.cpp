@@ -609,13 +609,16 @@ Converted convert(const std::string& path, std::FILE* out, const Slice& slice, s
   if (!selectColumns(cols, slice.columns, selected, error)) return Converted::kNoSuchColumn;
   const bool csv = slice.format == Slice::Format::kCsv;
   const char sep = csv ? ',' : '\t';
-  std::string line = csv ? "" : "# ballast telemetry 1\n# ";
-  for (std::size_t s = 0; s < selected.size(); ++s) {
-    if (csv)
+  std::string line;
+  if (csv) {
+    for (std::size_t s = 0; s < selected.size(); ++s) {
       appendCsvField(line, cols[selected[s]].name);
-    else
-      line += cols[selected[s]].name;
-    line += s + 1 < selected.size() ? sep : '\n';
+      line += s + 1 < selected.size() ? sep : '\n';
+    }
+  } else {
+    std::vector<std::string> names;
+    for (std::size_t c : selected) names.push_back(cols[c].name);
+    line = textHeader(names, r.header().limbs);
   }
   std::fwrite(line.data(), 1, line.size(), out);
   int t = -1;
@@ -651,6 +654,27 @@ Converted convert(const std::string& path, std::FILE* out, const Slice& slice, s
     return Converted::kCannotWrite;
   }
   return Converted::kOk;
+}
+
+std::string textHeader(const std::vector<std::string>& names, const std::vector<Group>& limbs) {
+  std::string text = "# ballast telemetry 1\n# ";
+  for (std::size_t i = 0; i < names.size(); ++i)
+    text += names[i] + (i + 1 < names.size() ? '\t' : '\n');
+  for (const Group& limb : limbs) {
+    text += "# limb " + limb.name;
+    for (const std::string& j : limb.members) text += ' ' + j;
+    text += '\n';
+  }
+  return text;
+}
+
+bool parseTextLimb(const std::string& line, Group& limb) {
+  if (line.rfind("# limb ", 0) != 0) return false;
+  std::istringstream words(line.substr(7));
+  limb = {};
+  if (!(words >> limb.name)) return false;
+  for (std::string j; words >> j;) limb.members.push_back(j);
+  return !limb.members.empty();
 }
 
 }  // namespace ballast::blog

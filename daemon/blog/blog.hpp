@@ -193,6 +193,14 @@ enum class Converted { kOk, kBadRecording, kNoSuchColumn, kCannotWrite };
 Converted convert(const std::string& path, std::FILE* out, const Slice& slice, std::string& error,
                   std::string* truncation = nullptr, std::uint64_t* frames = nullptr);
 
+/// The text recording's header (ballastd(8), TELEMETRY): "# ballast telemetry 1", "# " and the
+/// tab-separated column names, then "# limb NAME JOINT..." per limb (what a .blog's header
+/// says of them), each line ending in '\n'. Readers skip lines starting with '#' after the
+/// names.
+std::string textHeader(const std::vector<std::string>& names, const std::vector<Group>& limbs);
+/// A "# limb NAME JOINT..." line of a text header, read back into limb; false for other lines.
+bool parseTextLimb(const std::string& line, Group& limb);
+
 /// CRC-32 (IEEE 802.3, as zlib's crc32).
 std::uint32_t crc32(const void* data, std::size_t size, std::uint32_t crc = 0);
 

@@ -141,10 +141,7 @@ bool TelemetryWriter::startRecording(const std::string& path, std::string& error
     error = "cannot write " + path + ": " + std::strerror(errno);
     return false;
   }
-  std::fputs("# ballast telemetry 1\n# ", f);
-  const auto cols = telemetryColumns(joint_names_);
-  for (std::size_t i = 0; i < cols.size(); ++i)
-    std::fprintf(f, "%s%c", cols[i].c_str(), i + 1 < cols.size() ? '\t' : '\n');
+  std::fputs(blog::textHeader(telemetryColumns(joint_names_), info.limbs).c_str(), f);
   file_ = f;
   path_ = path;
   frames_ = 0;

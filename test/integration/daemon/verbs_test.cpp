@@ -230,7 +230,14 @@ TEST_F(Verbs, RecordThenPlot) {
   // columns the plots and scripts read are all filled.
   const std::string text = readFile(file);
   EXPECT_EQ(text.rfind("# ballast telemetry 1\n# t\tmode\t", 0), 0u);
-  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), frames + 2);
+  // The header: the names, then the humanoid's four limbs (legs and arms, out to each leaf).
+  long limbs = 0;
+  for (std::size_t at = text.find("\n# limb "); at != std::string::npos;
+       at = text.find("\n# limb ", at + 1))
+    ++limbs;
+  EXPECT_EQ(limbs, 4);
+  EXPECT_NE(text.find("\n# limb left_foot left_hip_yaw "), std::string::npos);
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), frames + 2 + limbs);
   std::istringstream lines(text);
   std::string line;
   std::getline(lines, line);
@@ -253,6 +260,7 @@ TEST_F(Verbs, RecordThenPlot) {
   long rows = 0;
   double mpc = 0, wbc = 0;
   while (std::getline(lines, line)) {
+    if (line.rfind("# limb ", 0) == 0) continue;
     std::vector<double> v;
     std::istringstream fields(line);
     for (std::string f; std::getline(fields, f, '\t');) v.push_back(std::strtod(f.c_str(), nullptr));

@@ -289,7 +289,24 @@ TEST_F(PlotCli, AWindowOfABinaryOrATextRecording) {
   const std::string g = script();
   EXPECT_NE(g.find("set xrange [0.5:1]"), std::string::npos);  // gnuplot windows the text
   EXPECT_NE(g.find("tmin = 0.5\ntmax = 1\n"), std::string::npos);  // and the histograms
-  r = plot({tsv, "--fig", "joints", "-o", png});  // no limbs in a text recording
+  // The text names the limbs as the .blog does; one from before it did gets joints in threes.
+  r = plot({tsv, "--fig", "joints", "-o", png});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(script().find("(a) left_foot"), std::string::npos);
+  EXPECT_NE(script().find("(b) right_foot"), std::string::npos);
+  const std::string old = (dir_ / "old.tsv").string();
+  {
+    std::ifstream in(tsv);
+    std::ofstream out(old);
+    int limbs = 0;
+    for (std::string line; std::getline(in, line);)
+      if (line.rfind("# limb ", 0) == 0)
+        ++limbs;
+      else
+        out << line << '\n';
+    EXPECT_EQ(limbs, 2);
+  }
+  r = plot({old, "--fig", "joints", "-o", png});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(script().find("(a) joints 1-3"), std::string::npos);
 }
