@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <stdexcept>
 
@@ -42,45 +43,62 @@ std::unique_ptr<octomap::OcTree> readTree(const std::string& path) {
 
 }  // namespace
 
-TerrainColumns loadTerrainColumns(const std::string& path) {
+TerrainColumns loadTerrainColumns(const std::string& path, double floorHeight,
+                                  double overhangHeight) {
   const std::unique_ptr<octomap::OcTree> tree = readTree(path);
   const double res = tree->getResolution();
-  struct Leaf {
-    double x, y, size, top;
+  // Every occupied cell, as the square it stands on and its bottom and top.
+  struct Cell {
+    long ix, iy;
+    float bottom, top;
   };
-  std::vector<Leaf> leaves;
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  double minX = inf, minY = inf, maxX = -inf, maxY = -inf;
+  std::vector<Cell> cells;
+  long minX = std::numeric_limits<long>::max(), minY = minX;
+  long maxX = std::numeric_limits<long>::min(), maxY = maxX;
   for (auto it = tree->begin_leafs(), end = tree->end_leafs(); it != end; ++it) {
     if (!tree->isNodeOccupied(*it)) continue;
     const double s = it.getSize();
-    const Leaf leaf{it.getX() - s / 2, it.getY() - s / 2, s, it.getZ() + s / 2};
-    minX = std::min(minX, leaf.x);
-    minY = std::min(minY, leaf.y);
-    maxX = std::max(maxX, leaf.x + s);
-    maxY = std::max(maxY, leaf.y + s);
-    leaves.push_back(leaf);
+    const long n = std::max(1L, std::lround(s / res));
+    const long ix0 = std::lround((it.getX() - s / 2) / res), iy0 = std::lround((it.getY() - s / 2) / res);
+    const auto bottom = static_cast<float>(it.getZ() - s / 2), top = static_cast<float>(it.getZ() + s / 2);
+    for (long iy = iy0; iy < iy0 + n; ++iy)
+      for (long ix = ix0; ix < ix0 + n; ++ix) cells.push_back({ix, iy, bottom, top});
+    minX = std::min(minX, ix0), maxX = std::max(maxX, ix0 + n);
+    minY = std::min(minY, iy0), maxY = std::max(maxY, iy0 + n);
   }
   TerrainColumns columns;
   columns.resolution = res;
-  if (leaves.empty()) return columns;
-  const long nx = std::lround((maxX - minX) / res), ny = std::lround((maxY - minY) / res);
+  if (cells.empty()) return columns;
+  const long nx = maxX - minX, ny = maxY - minY;
   if (nx * ny > kMaxColumns)
     throw std::runtime_error(path + ": the map covers " + std::to_string(nx) + " x " +
                              std::to_string(ny) + " columns, more than the simulation takes (" +
                              std::to_string(kMaxColumns) + ")");
+  // Column by column, bottom up: runs of cells, and the tops of those that start low enough.
+  std::sort(cells.begin(), cells.end(), [](const Cell& a, const Cell& b) {
+    return a.iy != b.iy ? a.iy < b.iy : a.ix != b.ix ? a.ix < b.ix : a.bottom < b.bottom;
+  });
+  const float bridged = static_cast<float>(1.5 * res);  // a gap of one cell, with rounding
+  const auto highestStart = static_cast<float>(floorHeight + overhangHeight);
   std::vector<float> tops(static_cast<std::size_t>(nx * ny), TerrainColumns::kNone);
-  for (const Leaf& leaf : leaves) {
-    const long ix0 = std::lround((leaf.x - minX) / res), iy0 = std::lround((leaf.y - minY) / res);
-    const long n = std::max(1L, std::lround(leaf.size / res));
-    for (long iy = iy0; iy < std::min(iy0 + n, ny); ++iy)
-      for (long ix = ix0; ix < std::min(ix0 + n, nx); ++ix) {
-        float& top = tops[static_cast<std::size_t>(ix + nx * iy)];
-        top = std::max(top, static_cast<float>(leaf.top));
+  bool any = false;
+  for (std::size_t i = 0; i < cells.size();) {
+    const Cell& first = cells[i];
+    float& top = tops[static_cast<std::size_t>((first.ix - minX) + nx * (first.iy - minY))];
+    float runBottom = first.bottom, runTop = first.top;
+    for (; i < cells.size() && cells[i].ix == first.ix && cells[i].iy == first.iy; ++i) {
+      if (cells[i].bottom > runTop + bridged) {  // a gap of two cells or more: a new run
+        if (runBottom <= highestStart) top = std::max(top, runTop);
+        runBottom = cells[i].bottom;
       }
+      runTop = std::max(runTop, cells[i].top);
+    }
+    if (runBottom <= highestStart) top = std::max(top, runTop);
+    any = any || top != TerrainColumns::kNone;
   }
-  columns.x0 = minX;
-  columns.y0 = minY;
+  if (!any) return columns;
+  columns.x0 = static_cast<double>(minX) * res;
+  columns.y0 = static_cast<double>(minY) * res;
   columns.nx = static_cast<int>(nx);
   columns.ny = static_cast<int>(ny);
   columns.tops = std::move(tops);

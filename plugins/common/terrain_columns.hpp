@@ -1,9 +1,14 @@
 // An OctoMap terrain map (.bt/.ot) as solid columns: what the simulation backends (simbody,
 // mujoco) make of the map the planner uses, so both simulate the same ground.
 //
-// Each occupied leaf of the map fills the columns (map-resolution squares) it covers up to its
-// top face; a column is solid from its top down (overhangs become solid). So a 10 cm stage in a
-// 2 cm map is a block with vertical sides and sharp edges.
+// Each map-resolution square of the map is a column, solid from its top down, so a 10 cm stage
+// in a 2 cm map is a block with vertical sides and sharp edges. A column holds what stands on
+// the ground: the square's occupied cells joined from the bottom up (a gap of one cell, where a
+// lidar missed, is bridged) in runs, and of those the runs that start at most overhang_height
+// above floor_height; its top is the highest of their tops. A run that starts higher hangs over
+// the ground (a building's ceiling, a table top seen without its legs) and is not simulated:
+// made solid down to the floor it would fill every room of an indoor lidar map to its ceiling.
+// A wall, seen from the floor up, stays a wall.
 #pragma once
 
 #include <limits>
@@ -24,9 +29,11 @@ struct TerrainColumns {
   bool empty() const { return nx == 0 || ny == 0; }
 };
 
-/// Reads the map. Throws std::runtime_error naming the file and what is wrong (unreadable, not
-/// an OctoMap OcTree, too large). A map without occupied cells gives empty columns.
-TerrainColumns loadTerrainColumns(const std::string& path);
+/// Reads the map, keeping what stands on the ground at floorHeight (see the header comment).
+/// Throws std::runtime_error naming the file and what is wrong (unreadable, not an OctoMap
+/// OcTree, too large). A map without occupied cells on the ground gives empty columns.
+TerrainColumns loadTerrainColumns(const std::string& path, double floorHeight,
+                                  double overhangHeight);
 
 /// A backend section's terrain_map as a path to open: as given when it is absolute or readable,
 /// else beside the profile the section comes from (origin "file:line"). Throws

@@ -37,6 +37,7 @@ const Schema<MujocoSettings> kSchema({
   text("terrain_map", "\"\"", "OctoMap file (.bt/.ot) simulated instead of Config::terrain_map (to test mapping); relative: to the working directory, else to the profile's").inGroup(kContact).into<&S::terrain_map>(),
   flag("floor", "true", "an infinite floor plane under the map (or alone, without a map)").inGroup(kContact).into<&S::floor>(),
   number("floor_height", "0", -100, 100, "", "height (m) of that floor").inGroup(kContact).into<&S::floor_height>(),
+  number("overhang_height", "0.5", 0.05, 100, "", "the map's cells stand on the ground in runs joined from the bottom up; a run that starts more than this (m) above floor_height hangs over it (a ceiling, a table top seen without its legs) and is not simulated").inGroup(kContact).into<&S::overhang_height>(),
   integer("substeps", "1", 1, 100, "", "MuJoCo steps per control tick: timestep = period / substeps; the motor model acts in every one").inGroup(kSimulation).into<&S::substeps>(),
   choice("integrator", "euler", "euler|implicit", "MuJoCo integrator: euler (semi-implicit, joint damping and the motors' kd implicit) or implicit (in velocity)").inGroup(kSimulation).into<&S::integrator>(),
   choice("solver", "newton", "newton|cg|pgs", "MuJoCo constraint solver").inGroup(kSimulation).into<&S::solver>(),

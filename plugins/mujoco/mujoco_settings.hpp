@@ -50,6 +50,7 @@ struct MujocoSettings : schema::Locations {
   std::string terrain_map;
   bool floor;
   double floor_height;
+  double overhang_height;
 
   int substeps;
   std::string integrator, solver;

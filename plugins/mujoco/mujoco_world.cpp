@@ -102,7 +102,7 @@ MujocoWorld::MujocoWorld(const WorldOptions& options)
   floorHeight_ = s.floor_height;
   if (!options.terrainMap.empty()) {
     try {
-      columns_ = plugin::loadTerrainColumns(options.terrainMap);
+      columns_ = plugin::loadTerrainColumns(options.terrainMap, s.floor_height, s.overhang_height);
       if (columns_.empty() && !s.floor)
         throw std::runtime_error(options.terrainMap +
                                  ": the map has no occupied cells and the floor is off: there is "

@@ -35,6 +35,7 @@ const Schema<SimSettings> kSchema({
   text("terrain_map", "\"\"", "OctoMap file (.bt/.ot) simulated instead of Config::terrain_map (to test mapping); relative: to the working directory, else to the profile's").inGroup(kContact).into<&S::terrain_map>(),
   flag("floor", "true", "an infinite floor plane under the map (or alone, without a map)").inGroup(kContact).into<&S::floor>(),
   number("floor_height", "0", -100, 100, "", "height (m) of that floor").inGroup(kContact).into<&S::floor_height>(),
+  number("overhang_height", "0.5", 0.05, 100, "", "the map's cells stand on the ground in runs joined from the bottom up; a run that starts more than this (m) above floor_height hangs over it (a ceiling, a table top seen without its legs) and is not simulated").inGroup(kContact).into<&S::overhang_height>(),
   choice("integrator", "semi_explicit_euler2", "semi_explicit_euler2|rkm|rk3|rkf|verlet", "Simbody integrator, error-controlled; semi_explicit_euler2 takes one step per tick standing (rkm: Runge-Kutta-Merson, 2.5x the cost)").inGroup(kSimulation).into<&S::integrator>(),
   number("accuracy", "1.0e-3", 1e-8, 0.1, "", "integrator relative accuracy").inGroup(kSimulation).into<&S::accuracy>(),
   numbers("gravity", "[0, 0, -9.81]", -100, 100, "", "gravity (m/s², world frame)").ofLength(3).inGroup(kSimulation).into<&S::gravity>(),

@@ -49,6 +49,7 @@ struct SimSettings : schema::Locations {
   std::string terrain_map;
   bool floor;
   double floor_height;
+  double overhang_height;
 
   std::string integrator;
   double accuracy;

@@ -58,7 +58,8 @@ SimbodyWorld::SimbodyWorld(const WorldOptions& options)
   try {
     terrain_ = options.terrainMap.empty()
                    ? Terrain::flat(s.floor_height)
-                   : Terrain::fromOctomap(options.terrainMap, s.floor, s.floor_height);
+                   : Terrain::fromOctomap(options.terrainMap, s.floor, s.floor_height,
+                                          s.overhang_height);
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(options.terrainMapWhere + e.what());
   }

@@ -40,8 +40,9 @@ Terrain Terrain::fromHeights(double x0, double y0, double resolution, int nx, in
   return t;
 }
 
-Terrain Terrain::fromOctomap(const std::string& path, bool floor, double floorHeight) {
-  plugin::TerrainColumns columns = plugin::loadTerrainColumns(path);
+Terrain Terrain::fromOctomap(const std::string& path, bool floor, double floorHeight,
+                             double overhangHeight) {
+  plugin::TerrainColumns columns = plugin::loadTerrainColumns(path, floorHeight, overhangHeight);
   if (columns.empty()) {
     if (!floor)
       throw std::runtime_error(path + ": the map has no occupied cells and the floor is off: "

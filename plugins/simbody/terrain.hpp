@@ -24,7 +24,8 @@ class Terrain {
   static Terrain flat(double floorHeight);
   /// The map in path (.bt or .ot), with or without a floor. Throws std::runtime_error naming
   /// the file and what is wrong.
-  static Terrain fromOctomap(const std::string& path, bool floor, double floorHeight);
+  static Terrain fromOctomap(const std::string& path, bool floor, double floorHeight,
+                             double overhangHeight);
   /// Columns given directly: tops[ix + nx * iy] (−infinity for none) over cells of size
   /// resolution whose grid starts at (x0, y0). For tests and tools.
   static Terrain fromHeights(double x0, double y0, double resolution, int nx, int ny,

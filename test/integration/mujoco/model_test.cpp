@@ -92,7 +92,7 @@ TEST(MujocoModel, TheStageIsOneBoxAndTheMapsFloorIsTheFloorPlane) {
   const auto tree = maps::makeTerrainMap(maps::stage(0.15, 1.5, 2.0, 3.0), 0.02, {-2, 6, -2, 2});
   std::string error;
   ASSERT_TRUE(maps::writeTerrainMap(*tree, path, error)) << error;
-  const plugin::TerrainColumns columns = plugin::loadTerrainColumns(path);
+  const plugin::TerrainColumns columns = plugin::loadTerrainColumns(path, 0.0, 0.5);
   const auto boxes = terrainBoxes(columns, true, 0.0);
   ASSERT_EQ(boxes.size(), 1u);
   EXPECT_NEAR(boxes[0][0], 1.5, 1e-6);

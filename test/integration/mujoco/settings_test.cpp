@@ -86,6 +86,7 @@ TEST(MujocoSettings, SharedKeysHaveTheSimbodyBackendsDefaultsAndBounds) {
       {"imu.gyro_noise_density", "2.4e-4", 0, 1}, {"imu.accel_noise_density", "1.5e-3", 0, 10},
       {"lidar.rate", "10", 0.1, 100},     {"position_fix.noise", "0.01", 1e-5, 1},
       {"initial_clearance", "0", 0, 1000}, {"host.stall_at", "-1", -1, 1e6},
+      {"overhang_height", "0.5", 0.05, 100},
   };
   for (const Shared& k : shared) {
     const SettingKey* key = nullptr;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <octomap/ColorOcTree.h>
+#include <octomap/OcTree.h>
 
 #include <cmath>
 #include <fstream>
@@ -114,7 +115,7 @@ class TerrainFiles : public ::testing::Test {
   std::string path(const std::string& name) const { return ::testing::TempDir() + name; }
   std::string errorOf(const std::string& file) const {
     try {
-      Terrain::fromOctomap(file, true, 0.0);
+      Terrain::fromOctomap(file, true, 0.0, 0.5);
     } catch (const std::runtime_error& e) {
       return e.what();
     }
@@ -122,12 +123,42 @@ class TerrainFiles : public ::testing::Test {
   }
 };
 
+TEST_F(TerrainFiles, AnIndoorMapIsItsFloorAndWallsNotItsCeiling) {
+  // An indoor lidar map at 8 cm: a floor two cells thick (top at 0), a ceiling at 2.4-2.56 m, a
+  // wall from the floor to the ceiling with one cell the lidar missed, a table top at 0.72 m seen
+  // without its legs, and a box whose lower half is a floor cell, a gap of two cells, its top.
+  const double r = 0.08;
+  octomap::OcTree tree(r);
+  auto fill = [&](double x0, double x1, double y0, double y1, double z0, double z1) {
+    for (double x = x0 + r / 2; x < x1; x += r)
+      for (double y = y0 + r / 2; y < y1; y += r)
+        for (double z = z0 + r / 2; z < z1; z += r) tree.updateNode(x, y, z, true);
+  };
+  fill(-1.6, 1.6, -1.6, 1.6, -0.16, 0.0);   // floor
+  fill(-1.6, 1.6, -1.6, 1.6, 2.4, 2.56);    // ceiling
+  fill(0.8, 0.96, -1.6, 1.6, 0.0, 1.2);     // wall, up to a missed cell
+  fill(0.8, 0.96, -1.6, 1.6, 1.28, 2.4);    // and on to the ceiling
+  fill(-0.8, -0.32, -0.8, -0.32, 0.64, 0.72);  // table top
+  fill(-1.2, -1.04, 0.8, 0.96, 0.16, 0.32);   // a box above a two-cell gap (starts at 0.16)
+  const std::string file = path("indoor.bt");
+  ASSERT_TRUE(tree.writeBinaryConst(file));
+  const Terrain t = Terrain::fromOctomap(file, false, 0.0, 0.5);
+  EXPECT_NEAR(t.heightAt(0.0, 0.0), 0.0, 1e-6);       // under the ceiling: the floor
+  EXPECT_NEAR(t.heightAt(0.88, 0.0), 2.56, 1e-6);     // the wall, to the ceiling it meets
+  EXPECT_NEAR(t.heightAt(-0.56, -0.56), 0.0, 1e-6);   // under the table top: the floor
+  EXPECT_NEAR(t.heightAt(-1.12, 0.88), 0.32, 1e-6);   // the box starts below 0.5 m: kept
+  // With the overhang height below the box, it hangs over the floor too.
+  const Terrain low = Terrain::fromOctomap(file, false, 0.0, 0.1);
+  EXPECT_NEAR(low.heightAt(-1.12, 0.88), 0.0, 1e-6);
+  EXPECT_NEAR(low.heightAt(0.88, 0.0), 2.56, 1e-6);
+}
+
 TEST_F(TerrainFiles, AStageMapKeepsItsHeightExactly) {
   const auto tree = maps::makeTerrainMap(maps::stage(0.10, 0.5, 1.0, 1.0), kRes, {-1, 2, -1, 1});
   std::string error;
   for (const std::string& file : {path("stage.bt"), path("stage.ot")}) {
     ASSERT_TRUE(maps::writeTerrainMap(*tree, file, error)) << error;
-    const Terrain t = Terrain::fromOctomap(file, false, 0.0);
+    const Terrain t = Terrain::fromOctomap(file, false, 0.0, 0.5);
     EXPECT_NEAR(t.heightAt(1.0, 0.0), 0.10, 1e-6) << file;
     EXPECT_NEAR(t.heightAt(0.2, 0.0), 0.0, 1e-6) << file;
     EXPECT_NEAR(t.heightAt(1.0, 0.7), 0.0, 1e-6) << file;
@@ -153,7 +184,7 @@ TEST_F(TerrainFiles, BadFilesSayWhatIsWrong) {
   octomap::OcTree empty(0.1);
   ASSERT_TRUE(empty.writeBinaryConst(path("empty.bt")));
   try {
-    Terrain::fromOctomap(path("empty.bt"), false, 0.0);
+    Terrain::fromOctomap(path("empty.bt"), false, 0.0, 0.5);
     ADD_FAILURE() << "an empty map without a floor was accepted";
   } catch (const std::runtime_error& e) {
     EXPECT_EQ(std::string(e.what()), path("empty.bt") + ": the map has no occupied cells and the "
