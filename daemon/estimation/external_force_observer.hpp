@@ -4,9 +4,13 @@
 // as a momentum observer, so that ṗ is never formed by differencing:
 //     r_k = (1 − K·dt)·r_{k−1} + K·(p_k − p_{k−1}) − K·dt·(Σ_i F_i + m g)_k
 // is f_ext through a first-order low-pass of time constant 1/K. The contact forces come from the
-// contact force observer (contact_force_observer.hpp), itself a low-pass of a faster bandwidth:
-// what it misses of a load changing hands within a step has no mean and K (slower) smooths it
-// out. p is the first three rows of M(q)·v turned into the world (with the free-flyer's base
+// contact force observer (contact_force_observer.hpp), itself a first-order low-pass of a faster
+// bandwidth K_c. The momentum goes through the same low-pass first (p_f, K_c) so that both sides
+// of Newton's law are delayed alike: ṗ_f − F̂ − m g is then the external force low-passed by K_c
+// alone. With the raw momentum the difference F − F̂ (the contact forces' high-pass) came
+// through, and at every touch-down, where the load changes hands within a few ms, it read as a
+// push of about K/K_c of the load step: 100-170 N for 1/5 of 600 N, spikes that made the step
+// adjustment throw the feet 0.2 m and the MPC lean into a push that was not there. p is the first three rows of M(q)·v turned into the world (with the free-flyer's base
 // velocity in the base frame, (M v)[0:3] is the robot's linear momentum in base axes).
 // What the estimate carries besides a push: the model's errors (a mass or a centre of mass off,
 // an actuator's inertia the model lacks) and the contact forces' own errors. A force under
@@ -25,9 +29,11 @@ class ExternalForceObserver {
   void reset() { started_ = false; }
 
   /// momentum: m ċ (world, N·s); contactForceSum: Σ F_i on the robot (world, N); weight: m g
-  /// (world, N, pointing down); bandwidth: K (1/s).
+  /// (world, N, pointing down); bandwidth: K (1/s); contactBandwidth: K_c of the contact forces'
+  /// low-pass (1/s; 0: the momentum unfiltered).
   void update(const Eigen::Vector3d& momentum, const Eigen::Vector3d& contactForceSum,
-              const Eigen::Vector3d& weight, double dt, double bandwidth);
+              const Eigen::Vector3d& weight, double dt, double bandwidth,
+              double contactBandwidth = 0.0);
 
   /// f_ext low-passed (world, N), before the deadband.
   const Eigen::Vector3d& raw() const { return force_; }
@@ -36,7 +42,7 @@ class ExternalForceObserver {
 
  private:
   bool started_ = false;
-  Eigen::Vector3d momentum_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d momentum_ = Eigen::Vector3d::Zero();  ///< p_f at the last update
   Eigen::Vector3d force_ = Eigen::Vector3d::Zero();
 };
 

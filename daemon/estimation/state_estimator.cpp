@@ -188,7 +188,7 @@ EstimatorStatus StateEstimator::update(const EstimatorInput& in, EstimatorOutput
     for (int c = 0; c < kContactPoints; ++c) forces += observer_.force(c);
     const Vector3d momentum = Rwb * (data_.M.topRows<3>() * v_);
     external_.update(momentum, forces, model_.totalMass() * model_.gravity, dt,
-                     s.externalForceBandwidth);
+                     s.externalForceBandwidth, s.contactForceBandwidth);
   }
   bool anyStance = false;
   for (int c = 0; c < kContactPoints; ++c) {
