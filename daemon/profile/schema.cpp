@@ -176,6 +176,7 @@ const Schema<Settings> kTable({
   strings("wbc.joint_space_joints", "[arms]", "joints tracked in joint space at priority 2 (the legs follow their feet): URDF joints or joint group names").into<&S::joints, &J::joint_space>(),
   number("wbc.swing_kp", "400", 0, 1e5, "1/s^2", "priority 2: swing contact point tracking stiffness (world frame)").into<&S::control, &C::wbc, &W::swingKp>(),
   number("wbc.swing_kd", "40", 0, 1e4, "1/s", "priority 2: swing contact point tracking damping").into<&S::control, &C::wbc, &W::swingKd>(),
+  flag("wbc.level_swing_feet", "true", "priority 2: a swinging foot is held level about the line through its contact points (with wbc.swing_kp/kd), which their paths leave free, so that it lands flat").into<&S::control, &C::wbc, &W::levelSwingFeet>(),
   number("wbc.joint_kp", "400", 0, 1e5, "1/s^2", "priority 2: joint-space tracking stiffness").into<&S::control, &C::wbc, &W::jointKp>(),
   number("wbc.joint_kd", "40", 0, 1e4, "1/s", "priority 2: joint-space tracking damping").into<&S::control, &C::wbc, &W::jointKd>(),
   numbers("wbc.base_kp", "[400, 400, 400, 400, 400, 400]", 0, 1e5, "1/s^2", "priority 3: base tracking stiffness, [x y z position; x y z orientation] (world)").ofLength(6).into<&S::control, &C::wbc, &W::baseKp>(),

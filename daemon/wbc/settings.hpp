@@ -41,6 +41,9 @@ struct WbcSettings {
   // Priority 2: limb motion tracking.
   double swingKp;  ///< 1/s², swing contact points, world frame
   double swingKd;  ///< 1/s
+  /// A swinging foot (both its contact points in swing) is held level about the line through
+  /// its points, with swingKp and swingKd: the points' paths leave that roll free.
+  bool levelSwingFeet = true;
   double jointKp;  ///< 1/s², joint-space joints
   double jointKd;  ///< 1/s
   // Priority 3: base motion tracking, [position (world x, y, z); orientation (world axes)].

@@ -43,11 +43,7 @@ const WbcSettings& validated(const WbcSettings& settings, const model::Model& mo
   return settings;
 }
 
-// Room for every joint in joint space: a profile switch may change which joints are, and the
-// controller must not allocate then.
-int limbRows(const model::Model& m, const WbcSettings& s) {
-  return 3 * static_cast<int>(s.contactFrames.size()) + m.nj();
-}
+int limbRows(const model::Model& m, const WbcSettings& s);
 /// Contact points on the same body (toe and heel of a foot): index pairs into contactFrames.
 std::vector<std::pair<int, int>> sameBodyPairs(const model::Model& m, const WbcSettings& s) {
   std::vector<std::pair<int, int>> pairs;
@@ -61,6 +57,12 @@ std::vector<std::pair<int, int>> sameBodyPairs(const model::Model& m, const WbcS
         used[i] = used[k] = true;
       }
   return pairs;
+}
+// Room for every joint in joint space: a profile switch may change which joints are, and the
+// controller must not allocate then. A swinging foot's roll: one row per foot.
+int limbRows(const model::Model& m, const WbcSettings& s) {
+  return 3 * static_cast<int>(s.contactFrames.size()) + m.nj() +
+         static_cast<int>(sameBodyPairs(m, s).size());
 }
 int physicsRows(const model::Model& m, const WbcSettings& s) {
   return 6 + 3 * static_cast<int>(s.contactFrames.size()) + static_cast<int>(sameBodyPairs(m, s).size());
@@ -114,6 +116,7 @@ void WholeBodyController::resolve(const WbcSettings& s) {
   settings_.variant = s.variant;
   settings_.swingKp = s.swingKp;
   settings_.swingKd = s.swingKd;
+  settings_.levelSwingFeet = s.levelSwingFeet;
   settings_.jointKp = s.jointKp;
   settings_.jointKd = s.jointKd;
   settings_.baseKp = s.baseKp;
@@ -280,8 +283,11 @@ void WholeBodyController::buildTasks(const WbcState& state, const WbcReference& 
   {
     int swingCount = 0;
     for (int i = 0; i < nc_; ++i) swingCount += ref.stance[i] ? 0 : 1;
+    int swingFeet = 0;
+    for (const auto& [i, k] : footPairs_)
+      swingFeet += settings_.levelSwingFeet && !ref.stance[i] && !ref.stance[k];
     const int nJoint = static_cast<int>(jointSpaceJoints_.size());
-    auto rows = tasks_.addEqualities(3 * swingCount + nJoint);
+    auto rows = tasks_.addEqualities(3 * swingCount + swingFeet + nJoint);
     int row = 0;
     for (int i = 0; i < nc_; ++i) {
       if (ref.stance[i]) continue;
@@ -291,6 +297,31 @@ void WholeBodyController::buildTasks(const WbcState& state, const WbcReference& 
                                settings_.swingKd * (ref.contactVelocity.col(i) - contactVelocity_.col(i)) -
                                contactBias_.segment<3>(3 * i);
       row += 3;
+    }
+    // A swinging foot's roll about the line through its two points, which those points' paths
+    // leave free: held level (its sideways axis horizontal), so that the foot lands flat. Left
+    // free, the least-squares answer rolls the foot with the hip, and a wide sideways step (a
+    // push's) landed on the sole's edge rolled 0.6 rad.
+    for (const auto& [i, k] : footPairs_) {
+      if (!settings_.levelSwingFeet || ref.stance[i] || ref.stance[k]) continue;
+      const Eigen::Vector3d line = contactPosition_.col(i) - contactPosition_.col(k);
+      const Eigen::Vector3d axis = line / std::max(line.norm(), 1e-9);
+      const Eigen::Vector3d side = Eigen::Vector3d::UnitZ().cross(axis);  // horizontal, ⟂ axis
+      rows.A.row(row).setZero();
+      rows.b[row] = 0.0;
+      if (line.norm() > 1e-6 && side.norm() > 1e-6) {  // else a foot on end: nothing to level
+        // The tilt about the axis: how far the sole's sideways direction is out of the horizontal.
+        const Eigen::Matrix3d R = model::framePlacement(model_, data_, contactFrames_[i]).R;
+        const Eigen::Vector3d lateral = R.col(1) - R.col(1).dot(axis) * axis;
+        const double tilt = std::atan2(lateral.z(), lateral.dot(side / side.norm()));
+        const auto velocity = model::frameVelocity(model_, data_, contactFrames_[i]);
+        model::frameJacobian(model_, data_, contactFrames_[i], Jframe_);
+        rows.A.block(row, 0, 1, nv_).noalias() = axis.transpose() * Jframe_.bottomRows<3>();
+        rows.b[row] =
+            -settings_.swingKp * tilt - settings_.swingKd * axis.dot(velocity.angular) -
+            axis.dot(model::frameClassicalAcceleration(model_, data_, contactFrames_[i]).angular);
+      }
+      ++row;
     }
     // Inverse dynamics (cI) holds these joints where the plan puts them: its plan has no limb
     // motion to feed forward.

@@ -81,6 +81,9 @@ TEST_P(WbcVariants, ConsistentReferencesAreMetAtEveryLevel) {
   const model::Model& m = humanoid();
   WbcSettings settings = wbcSettings();
   settings.variant = GetParam();
+  // Random motions roll their swinging feet; the task that levels them asks for its own roll
+  // acceleration (ASwingingFootIsHeldLevel), which no reference here carries.
+  settings.levelSwingFeet = false;
   WholeBodyController wbc(m, settings);
   WbcReference ref = wbc.makeReference();
   WbcOutput out = wbc.makeOutput();
@@ -173,6 +176,7 @@ TEST(Wbc, LimbsOverBaseWhenTheyConflict) {
   const model::Model& m = humanoid();
   WbcSettings settings = wbcSettings();
   settings.torqueLimit.assign(m.nj(), 5000.0);
+  settings.levelSwingFeet = false;  // as in ConsistentReferencesAreMetAtEveryLevel
   WholeBodyController wbc(m, settings);
   WbcReference ref = wbc.makeReference();
   ref.stance = {false, false, false, false};
@@ -351,6 +355,54 @@ TEST(Wbc, FrictionPyramidLimitsTheBase) {
   ASSERT_EQ(grippy.update(state, ref, out2), WbcStatus::kOk);
   EXPECT_LT(out2.taskError[kBase], 1e-6);
   expectPhysicallyConsistent(m, grippy, state, ref, out2);
+}
+
+TEST(Wbc, ASwingingFootIsHeldLevel) {
+  // The right foot in swing, rolled about its toe-heel line by its ankle (0.3 rad) and rolling
+  // on (1 rad/s), its points' references where they are: the foot's roll acceleration about that
+  // line is the feedback −kp·tilt − kd·rate that levels it, and the points stay on their paths.
+  // Without wbc.level_swing_feet nothing asks for that roll.
+  const model::Model& m = humanoid();
+  WbcSettings settings = wbcSettings();
+  ASSERT_TRUE(settings.levelSwingFeet);  // the schema's default
+  ConsistentMotion c;
+  c.q = standingConfiguration(m);
+  const int ankleRoll = m.jointId("right_ankle_roll");
+  c.q[model::Model::qIndexOfJoint(ankleRoll)] = 0.3;
+  c.v = Eigen::VectorXd::Zero(m.nv);
+  c.v[model::Model::vIndexOfJoint(ankleRoll)] = 1.0;
+  c.vdot = Eigen::VectorXd::Zero(m.nv);
+  c.F = Eigen::VectorXd::Zero(12);
+  c.F[2] = c.F[5] = 0.5 * m.totalMass() * 9.81;
+  const int toe = m.frameId("right_toe"), heel = m.frameId("right_heel");
+  model::Data<double> d(m);
+  model::forwardKinematicsBias(m, d, c.q, c.v);
+  const Eigen::Vector3d line = model::framePlacement(m, d, toe).p - model::framePlacement(m, d, heel).p;
+  const Eigen::Vector3d axis = line.normalized();
+  const double rate = axis.dot(model::frameVelocity(m, d, toe).angular);
+  const Eigen::Vector3d sideways = model::framePlacement(m, d, toe).R.col(1);
+  const double tilt = std::asin(sideways.z() / std::sqrt(1.0 - std::pow(sideways.dot(axis), 2)));
+  ASSERT_NEAR(tilt, 0.3, 0.02);  // feet flat in the standing configuration: the ankle's roll
+  ASSERT_NEAR(rate, 1.0, 0.02);
+
+  for (const bool level : {true, false}) {
+    settings.levelSwingFeet = level;
+    WholeBodyController wbc(m, settings);
+    WbcReference ref = wbc.makeReference();
+    ref.stance = {true, true, false, false};
+    consistentReferences(m, wbc, c, ref);
+    WbcOutput out = wbc.makeOutput();
+    ASSERT_EQ(wbc.update(stateOf(c), ref, out), WbcStatus::kOk);
+    EXPECT_LT(out.taskError[kLimbs], 1e-7);
+    Eigen::MatrixXd J(6, m.nv);
+    model::frameJacobian(m, d, toe, J);
+    const double roll = axis.dot(J.bottomRows<3>() * out.acceleration +
+                                 model::frameClassicalAcceleration(m, d, toe).angular);
+    if (level)
+      EXPECT_NEAR(roll, -settings.swingKp * tilt - settings.swingKd * rate, 1e-6);
+    else
+      EXPECT_GT(std::abs(roll + settings.swingKp * tilt + settings.swingKd * rate), 10.0);
+  }
 }
 
 TEST(Wbc, BadInputGivesZeroTorquesAndAFlag) {
