@@ -1,24 +1,54 @@
 #include "test/integration/daemon_stack/push_trial.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <deque>
 #include <stdexcept>
 
+#include "model/data.hpp"
+#include "model/forward_kinematics.hpp"
+#include "model/frames.hpp"
 #include "test/integration/daemon_stack/daemon_stack.hpp"
 
 namespace ballast::test {
 namespace {
 
-void traceLine(std::FILE* out, const control::LoopStatus& s, bool pushing) {
+/// One line of the trace: the true base, the estimated contacts and push, and where the feet
+/// are (the middle of each foot's contact points from the true base and the measured joints).
+void traceLine(std::FILE* out, const DaemonStack& robot, const control::LoopStatus& s,
+               bool pushing) {
   const control::BaseState& b = s.truth;
+  const model::Model& m = robot.model();
+  Eigen::VectorXd q(7 + m.nj());
+  for (int i = 0; i < 3; ++i) q[i] = b.position[i];
+  for (int i = 0; i < 4; ++i) q[3 + i] = b.orientation[i];
+  for (int j = 0; j < m.nj(); ++j) q[7 + j] = j < s.num_joints ? s.q[j] : 0.0;
+  model::Data<double> data(m);
+  model::forwardKinematics(m, data, q);
+  Eigen::Vector3d feet[2];
+  double tilt[2];  // the sole's sideways tilt, rad (> 0: its left edge up)
+  const auto& frames = robot.settings().locomotion.contactFrames;
+  for (int foot = 0; foot < 2; ++foot) {
+    const auto toe = model::framePlacement(m, data, m.frameId(frames[2 * foot]));
+    feet[foot] = 0.5 * (toe.p + model::framePlacement(m, data, m.frameId(frames[2 * foot + 1])).p);
+    tilt[foot] = std::asin(std::clamp(toe.R(2, 1), -1.0, 1.0));
+  }
   std::fprintf(out,
                "%7.3f %-8s %s x %7.3f y %7.3f z %5.3f  vx %6.3f vy %6.3f  roll %6.3f pitch %6.3f "
-               "yaw %6.3f  feet %d%d%d%d  f %6.1f %6.1f\n",
+               "yaw %6.3f  feet %d%d%d%d  f %6.1f %6.1f  L %6.3f %6.3f %5.3f %5.2f  R %6.3f %6.3f %5.3f %5.2f\n",
                s.t, control::modeName(s.mode), pushing ? "PUSH" : "    ", b.position[0],
                b.position[1], b.position[2], b.linear_velocity[0], b.linear_velocity[1], b.rpy[0],
                b.rpy[1], b.rpy[2], s.contacts[0], s.contacts[1], s.contacts[2], s.contacts[3],
-               s.external_force[0], s.external_force[1]);
+               s.external_force[0], s.external_force[1], feet[0].x(), feet[0].y(), feet[0].z(),
+               tilt[0], feet[1].x(), feet[1].y(), feet[1].z(), tilt[1]);
+  // Joints within 0.03 rad of a limit.
+  for (int j = 0; j < m.nj() && j < s.num_joints; ++j) {
+    const double lo = m.lowerPositionLimit[j], hi = m.upperPositionLimit[j];
+    if (s.q[j] < lo + 0.03 || s.q[j] > hi - 0.03)
+      std::fprintf(out, "        limit: %s %.3f [%.2f, %.2f]\n", m.jointName[j + 1].c_str(), s.q[j],
+                   lo, hi);
+  }
 }
 
 }  // namespace
@@ -50,7 +80,7 @@ PushOutcome runPushTrial(const PushTrial& trial) {
   // Up to the push, tracing as we go.
   while (robot.t() < pushAt - 1e-9) {
     if (!robot.run(std::min(0.02, pushAt - robot.t()))) return fell("before the push");
-    if (trial.trace) traceLine(trial.trace, robot.status(), false);
+    if (trial.trace) traceLine(trial.trace, robot, robot.status(), false);
   }
   const double yaw = robot.status().truth.rpy[2];
   const double a = trial.directionDeg * M_PI / 180.0 + yaw;
@@ -69,7 +99,7 @@ PushOutcome runPushTrial(const PushTrial& trial) {
   while (robot.t() < end - 1e-9) {
     if (!robot.run(std::min(0.02, end - robot.t()))) return fell("after the push");
     const control::LoopStatus s = robot.status();
-    if (trial.trace) traceLine(trial.trace, s, s.t < pushEnd);
+    if (trial.trace) traceLine(trial.trace, robot, s, s.t < pushEnd);
     for (int foot = 0; foot < 2; ++foot) {
       const bool down = s.contacts[2 * foot];
       if (down && !lastContact[foot]) ++out.touchDowns;
