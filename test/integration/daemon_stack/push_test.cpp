@@ -134,5 +134,52 @@ INSTANTIATE_TEST_SUITE_P(DISABLED_Sideways, StandingPush,
                          ::testing::Values(std::make_tuple(60.0, 90.0), std::make_tuple(60.0, 270.0)),
                          standingPushName);
 
+/// Issue 13, walking sideways: 60 N for 1 s along +y or -y on the torso, walking at 0.5 m/s with
+/// the capture point's footholds (`gait.footholds: capture_point`), the push starting at a phase
+/// of the gait cycle (fraction of 0.8 s), a fresh robot: no fall, still walking 4 s after the
+/// push. The phases registered here are those that hold now (ballast-push-map's 8-phase sweep:
+/// +y 2 of 8, -y 2 of 8; README, Pushes), kept from regressing; the others fall and are
+/// registered disabled until issue 13 gets them.
+class WalkingSidewaysPush : public ::testing::TestWithParam<std::tuple<double, double>> {};
+
+std::string capturePointProfile() {
+  const std::string path = ::testing::TempDir() + "ballast-capture-point.yaml";
+  if (std::FILE* f = std::fopen(path.c_str(), "w")) {
+    std::fprintf(f, "extends: %s\ngait: {footholds: capture_point}\n", kProfile.c_str());
+    std::fclose(f);
+  }
+  return path;
+}
+
+TEST_P(WalkingSidewaysPush, SixtyNewtonsForOneSecond) {
+  PushTrial trial;
+  trial.profile = capturePointProfile();
+  trial.speed = 0.5;
+  trial.force = 60.0;
+  trial.directionDeg = std::get<0>(GetParam());
+  trial.phase = std::get<1>(GetParam());
+  trial.after = 4.0;
+  const PushOutcome out = runPushTrial(trial);
+  std::printf("walking 0.5 m/s, 60 N at %.0f deg, phase %.3f: %s\n", trial.directionDeg,
+              trial.phase, out.message.c_str());
+  EXPECT_TRUE(out.survived) << out.message;
+}
+
+std::string sidewaysName(const ::testing::TestParamInfo<std::tuple<double, double>>& info) {
+  return std::string(std::get<0>(info.param) > 180.0 ? "MinusY" : "PlusY") + "Phase" +
+         std::to_string(static_cast<int>(std::lround(1000.0 * std::get<1>(info.param))));
+}
+
+INSTANTIATE_TEST_SUITE_P(Push, WalkingSidewaysPush,
+                         ::testing::Values(std::make_tuple(90.0, 0.375), std::make_tuple(90.0, 0.5),
+                                           std::make_tuple(270.0, 0.0), std::make_tuple(270.0, 0.875)),
+                         sidewaysName);
+// Falling now (issue 13): the pelvis rolls over the stance foot until a hip roll joint is at its
+// limit (see the note's traces). Run with --gtest_also_run_disabled_tests.
+INSTANTIATE_TEST_SUITE_P(DISABLED_Falling, WalkingSidewaysPush,
+                         ::testing::Values(std::make_tuple(90.0, 0.0), std::make_tuple(90.0, 0.25),
+                                           std::make_tuple(270.0, 0.25), std::make_tuple(270.0, 0.5)),
+                         sidewaysName);
+
 }  // namespace
 }  // namespace ballast::test
