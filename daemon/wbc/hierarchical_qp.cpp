@@ -35,6 +35,8 @@ HierarchicalQp::HierarchicalQp(int variables, int maxLevels, int maxLevelEqualit
   xc_.setZero(n);
   w_.setZero(n);
   e_.setZero(2 * m);
+  rowNorm_.setZero(m);
+  rowWeight_.setZero(m);
   Dx_.setZero(p);
   relax_.setZero(p);
   work_.setZero(std::max(n, m) + 1);
@@ -71,10 +73,11 @@ int HierarchicalQp::totalIterations() const {
 // (A_k Z)ᵀ = Q R Pᵀ. Leaves Zp = Z Q (its first `rank` columns span the task directions, the
 // rest the new null space), T = R's first `rank` rows (zeros below the diagonal), e_ (second
 // half) = Pᵀ(b_k − A_k x), and xc = x + Zp₁ w₁ with w₁ the minimum-norm least-squares step.
-int HierarchicalQp::taskStep(const TaskStack& stack, int k, int r) {
+int HierarchicalQp::taskStep(const TaskStack& stack, int k, int r, HqpLevelResult& level) {
   const int m = stack.equalityRows(k), begin = stack.equalityBegin(k);
   Zp_.leftCols(r) = Z_.leftCols(r);
   xc_ = x_;
+  damped_ = false;
   if (m == 0 || r == 0) return 0;
 
   const auto A = stack.A().middleRows(begin, m);
@@ -86,8 +89,10 @@ int HierarchicalQp::taskStep(const TaskStack& stack, int k, int r) {
 
   // Rows are dependent when what is left of them is small next to the largest scaled row.
   double largestRow = 0.0;
-  for (int i = 0; i < m; ++i)
-    largestRow = std::max(largestRow, A.row(i).cwiseProduct(scale_.transpose()).norm());
+  for (int i = 0; i < m; ++i) {
+    rowNorm_[i] = A.row(i).cwiseProduct(scale_.transpose()).norm();
+    largestRow = std::max(largestRow, rowNorm_[i]);
+  }
   const double threshold = settings_.rankTolerance * largestRow;
 
   for (int c = 0; c < m; ++c) perm_[c] = c;
@@ -100,6 +105,16 @@ int HierarchicalQp::taskStep(const TaskStack& stack, int k, int r) {
       if (norm2 > best) best = norm2, pivot = c;
     }
     if (!(std::sqrt(best) > threshold)) break;
+    if (std::sqrt(best) < settings_.dependentBelow * rowNorm_[perm_[pivot]]) {
+      // Nearly dependent on what came before: take the row most independent of it instead, or
+      // none if every row left is nearly dependent.
+      double bestRho = -1.0;
+      for (int c = j; c < m; ++c) {
+        const double rho = B.col(c).segment(j, r - j).norm() / rowNorm_[perm_[c]];
+        if (rowNorm_[perm_[c]] > 0.0 && rho > bestRho) bestRho = rho, pivot = c;
+      }
+      if (!(bestRho >= settings_.dependentBelow)) break;
+    }
     if (pivot != j) {
       B.col(j).swap(B.col(pivot));
       std::swap(perm_[j], perm_[pivot]);
@@ -123,8 +138,28 @@ int HierarchicalQp::taskStep(const TaskStack& stack, int k, int r) {
   auto ep = e_.segment(m, m);
   for (int i = 0; i < m; ++i) ep[i] = e[perm_[i]];
 
+  // Pivots small next to their own row: damp their directions (d_j² on the diagonal).
+  double conditioning = 1.0;
+  auto d2 = rowWeight_.head(rank);
+  for (int j = 0; j < rank; ++j) {
+    const double norm = rowNorm_[perm_[j]], rho = std::abs(T(j, j)) / norm;
+    conditioning = std::min(conditioning, rho);
+    d2[j] = rho < settings_.dampingBelow ? settings_.damping * settings_.damping * norm * norm : 0.0;
+  }
+  level.conditioning = conditioning;
+  damped_ = conditioning < settings_.dampingBelow;
+  level.damped = damped_;
+
   auto w1 = w_.head(rank);
-  if (rank == m) {  // independent rows: the task is met exactly, R₁₁ᵀw₁ = Pᵀe
+  if (damped_) {  // least squares, damped along the ill-conditioned pivots: (T Tᵀ + D²) w₁ = T Pᵀe
+    auto N = N_.topLeftCorner(rank, rank);
+    N.noalias() = T * T.transpose();
+    N.diagonal() += d2;
+    w1.noalias() = T * ep;
+    Eigen::Ref<Eigen::MatrixXd> ref(N);
+    Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(ref);
+    llt.solveInPlace(w1);
+  } else if (rank == m) {  // independent rows: the task is met exactly, R₁₁ᵀw₁ = Pᵀe
     w1 = ep;
     T.leftCols(rank).triangularView<Eigen::Upper>().transpose().solveInPlace(w1);
   } else {  // dependent rows: least squares by the normal equations of Tᵀw₁ ≈ Pᵀe
@@ -157,7 +192,12 @@ void HierarchicalQp::setUpLevelQp(QpSolver& qp, const TaskStack& stack, int r, i
   qp.resize(r, 0, rows);
   auto H = qp.H();
   H.diagonal().setConstant(settings_.regularization);
-  if (rank > 0) {
+  if (rank > 0 && damped_) {  // as taskStep: damped along the ill-conditioned pivots
+    const auto T = T_.topLeftCorner(rank, m);
+    H.topLeftCorner(rank, rank).noalias() += T * T.transpose();
+    H.diagonal().head(rank) += rowWeight_.head(rank);
+    qp.g().head(rank).noalias() = -T * e_.segment(m, m);
+  } else if (rank > 0) {
     const auto T = T_.topLeftCorner(rank, m);
     H.topLeftCorner(rank, rank).noalias() += T * T.transpose();
     qp.g().head(rank).noalias() = -T * e_.segment(m, m);
@@ -259,7 +299,7 @@ HqpStatus HierarchicalQp::solve(const TaskStack& stack) {
     const int m = stack.equalityRows(k), p = stack.inequalityRows(k);
     const int rowsAbove = rowsInForce_, rows = rowsAbove + p;
     relax_.segment(rowsAbove, p).setZero();
-    const int rank = taskStep(stack, k, r);
+    const int rank = taskStep(stack, k, r, level);
 
     if (feasible(stack, xc_, rows)) {
       x_ = xc_;

@@ -109,6 +109,124 @@ TEST(HierarchicalQp, DependentRowsWithinAndAcrossLevels) {
   EXPECT_LT((hqp.solution() - lexicographicLeastSquares(stack)).norm(), 1e-9);
 }
 
+/// Orthonormal basis of the null space of M (by SVD, independent of the solver's QR).
+Eigen::MatrixXd nullSpace(const Eigen::MatrixXd& M) {
+  Eigen::JacobiSVD<Eigen::MatrixXd> svd(M, Eigen::ComputeFullV);
+  svd.setThreshold(1e-9);
+  return svd.matrixV().rightCols(M.cols() - svd.rank());
+}
+
+// A level of rank 4 in 8 rows whose targets contradict each other, with rows of norms from 1e-2
+// to 1e3, above two ordinary levels: each level's answer must satisfy its optimality (KKT)
+// conditions in the set the levels above leave. Level 0 is plain least squares, A₀ᵀ(A₀x − b₀) = 0;
+// level k minimises ‖A_k x − b_k‖ over the x that keep A_j x (j < k) where they are, so its
+// gradient A_kᵀ(A_k x − b_k) has no part in the null space N of the rows above.
+TEST(HierarchicalQp, RankDeficientContradictoryLevelMeetsTheLeastSquaresKktConditions) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const int n = 12;
+  auto random = [&](int rows, int cols) {
+    return Eigen::MatrixXd(Eigen::MatrixXd::NullaryExpr(rows, cols, [&] { return u(rng); }));
+  };
+  for (int trial = 0; trial < 20; ++trial) {
+    TaskStack stack(n, 3, 18, 0);
+    stack.beginLevel();
+    auto l0 = stack.addEqualities(8);
+    l0.A = random(8, 4) * random(4, n);
+    for (int i = 0; i < 8; ++i) l0.A.row(i) *= std::pow(10.0, -2.0 + 5.0 * i / 7.0);
+    l0.b = 10.0 * Eigen::VectorXd::NullaryExpr(8, [&] { return u(rng); });
+    stack.beginLevel();
+    auto l1 = stack.addEqualities(6);
+    l1.A = random(6, n);
+    l1.b = Eigen::VectorXd::NullaryExpr(6, [&] { return u(rng); });
+    stack.beginLevel();
+    auto l2 = stack.addEqualities(4);
+    l2.A = random(4, n);
+    l2.b = Eigen::VectorXd::NullaryExpr(4, [&] { return u(rng); });
+
+    HierarchicalQp hqp(n, 3, 8, 0);
+    ASSERT_EQ(hqp.solve(stack), HqpStatus::kOk);
+    const Eigen::VectorXd& x = hqp.solution();
+    ASSERT_TRUE(x.allFinite());
+    EXPECT_EQ(hqp.level(0).rank, 4);
+    EXPECT_EQ(hqp.level(1).rank, 6);
+    EXPECT_EQ(hqp.level(2).rank, 2);
+    Eigen::MatrixXd above(0, n);
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::MatrixXd A = stack.A().middleRows(stack.equalityBegin(k), stack.equalityRows(k));
+      const Eigen::VectorXd b = stack.b().segment(stack.equalityBegin(k), stack.equalityRows(k));
+      const Eigen::VectorXd gradient = A.transpose() * (A * x - b);
+      const Eigen::MatrixXd N =
+          k == 0 ? Eigen::MatrixXd(Eigen::MatrixXd::Identity(n, n)) : nullSpace(above);
+      EXPECT_LT((N.transpose() * gradient).norm(), 1e-8 * std::max(1.0, A.norm() * b.norm()))
+          << "trial " << trial << " level " << k;
+      above.conservativeResize(above.rows() + A.rows(), n);
+      above.bottomRows(A.rows()) = A;
+    }
+    EXPECT_GT(hqp.level(0).residual, 1.0);  // the contradiction is real
+    EXPECT_LT((x - lexicographicLeastSquares(stack)).norm(), 1e-8 * std::max(1.0, x.norm()));
+  }
+}
+
+// Rows that are nearly, not exactly, dependent on the rows before them (a leg without hip yaw on
+// both feet: the feet's relative yaw): solved exactly they would ask for a step of the targets'
+// disagreement over the sine of their angle. Below settings.dependentBelow they count as
+// dependent (least squares, as the exactly dependent rows); between that and
+// settings.dampingBelow their direction is damped. Either way the answer stays of the size of the
+// targets, the other rows are met, and without either rule the step is huge.
+TEST(HierarchicalQp, NearlyDependentRowsGiveStepsOfTheTargetsSizeNotOfOneOverTheirAngle) {
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const int n = 10;
+  const Eigen::MatrixXd A4 = Eigen::MatrixXd::NullaryExpr(4, n, [&] { return u(rng); });
+  const Eigen::VectorXd b4 = Eigen::VectorXd::NullaryExpr(4, [&] { return u(rng); });
+  Eigen::RowVectorXd direction = Eigen::RowVectorXd::NullaryExpr(n, [&] { return u(rng); });
+  // The part of `direction` outside the rows' span, of unit norm.
+  direction -= (A4.transpose() * A4.transpose().colPivHouseholderQr().solve(direction.transpose())).transpose();
+  direction.normalize();
+  const double disagreement = 0.01;
+  auto stackWith = [&](double angle) {
+    TaskStack stack(n, 2, 5 + n, 0);
+    stack.beginLevel();
+    auto l0 = stack.addEqualities(5);
+    l0.A.topRows(4) = A4;
+    l0.b.head(4) = b4;
+    const double norm = A4.row(0).norm();
+    l0.A.row(4) = A4.row(0) + angle * norm * direction;
+    l0.b[4] = b4[0] + disagreement * norm;
+    stack.beginLevel();
+    auto l1 = stack.addEqualities(n);
+    l1.A.setIdentity();  // and the rest as small as it can be
+    return stack;
+  };
+  const Eigen::VectorXd xLs = lexicographicLeastSquares(stackWith(0.0));
+  for (const double angle : {1e-7, 3e-5, 2e-4}) {
+    SCOPED_TRACE(angle);
+    const TaskStack stack = stackWith(angle);
+    HierarchicalQp hqp(n, 2, n, 0);
+    ASSERT_EQ(hqp.solve(stack), HqpStatus::kOk);
+    const Eigen::VectorXd& x = hqp.solution();
+    ASSERT_TRUE(x.allFinite());
+    EXPECT_LT((A4 * x - b4).tail(3).norm(), 1e-9);  // the rows that are not in question
+    EXPECT_LT(x.norm(), 2.0 * xLs.norm() + 1.0);
+    EXPECT_LT(hqp.level(0).residual, disagreement * A4.row(0).norm());
+    if (angle < 1e-4) {
+      EXPECT_EQ(hqp.level(0).rank, 4);  // dependent: the least squares of the dependent rows
+      EXPECT_LT((x - xLs).norm(), 1e-3 * xLs.norm());
+    } else {
+      EXPECT_EQ(hqp.level(0).rank, 5);
+      EXPECT_TRUE(hqp.level(0).damped);
+    }
+    // Without the two rules, the exact solve: a step of disagreement / angle.
+    HqpSettings exact;
+    exact.dependentBelow = 0.0;
+    exact.dampingBelow = 0.0;
+    HierarchicalQp plain(n, 2, n, 0, exact);
+    ASSERT_EQ(plain.solve(stack), HqpStatus::kOk);
+    EXPECT_GT(plain.solution().norm(), 0.2 * disagreement / angle);
+  }
+}
+
 /// For each level, the best residual over x meeting the levels above as the solver did and
 /// every inequality row in force (those of levels ≤ k), by one QP in the full space.
 double fullSpaceBest(const TaskStack& t, int level, const Eigen::VectorXd& x) {
