@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 namespace ballast::mpc {
 namespace {
@@ -57,20 +58,40 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
   const auto& general = p.general;
   const auto& K = p.constrained;
   const auto& F = p.free;
-  const int mg = static_cast<int>(general.size());
   const int nK = static_cast<int>(K.size());
   const int nF = static_cast<int>(F.size());
+  // A general row whose part outside the rows before it is below kDependentBelow of its norm is
+  // dropped: it asks for what the others nearly fix already, and met exactly it would take
+  // inputs of its disagreement with them over that sine. On legs without hip yaw the two feet's
+  // yaw rates are both the base's (their rows' sine 1e-4..1e-2 standing and walking, 0 with level
+  // feet); the humanoid's rows stay above 3e-2 walking. One row at a time, the most dependent.
+  constexpr double kDependentBelow = 1e-2;
+  for (int pass = 0;; ++pass) {
+    const int rows = static_cast<int>(general.size());
+    if (rows == 0) break;
+    p.DKt.resize(nK, rows);
+    for (int r = 0; r < rows; ++r)
+      for (int i = 0; i < nK; ++i) p.DKt(i, r) = n.D(general[r], K[i]);
+    p.qr.compute(p.DKt);
+    if (rows == 1 || pass == 4) break;
+    int worst = -1;
+    double worstRho = kDependentBelow;
+    for (int r = 1; r < rows; ++r) {
+      const double norm = p.DKt.col(r).norm();
+      const double rho = norm > 0.0 ? std::abs(p.qr.matrixQR()(r, r)) / norm : 1.0;
+      if (rho < worstRho) worstRho = rho, worst = r;
+    }
+    if (worst < 0) break;
+    p.general.erase(p.general.begin() + worst);
+  }
+  const int mg = static_cast<int>(general.size());
   if (nK < mg) return false;
   const int nz = nK - mg;
   // The general rows with the fixed inputs substituted: D_K δu_K + C δx + e' = 0.
   if (mg > 0) {
-    p.DKt.resize(nK, mg);
-    for (int r = 0; r < mg; ++r)
-      for (int i = 0; i < nK; ++i) p.DKt(i, r) = n.D(general[r], K[i]);
     p.ePrime = n.e(general);
     for (int r = 0; r < mg; ++r)
       for (int j : p.fixed) p.ePrime[r] += n.D(general[r], j) * p.kc[j];
-    p.qr.compute(p.DKt);
     const auto pivots = p.qr.matrixQR().diagonal().head(mg).cwiseAbs();
     if (!(pivots.minCoeff() > 1e-9 * std::max(1.0, pivots.maxCoeff()))) return false;
     p.Qfull = p.qr.householderQ();

@@ -85,13 +85,28 @@ TEST(RiccatiSolver, MatchesTheKktSolutionWithStructuredEqualities) {
   }
 }
 
-TEST(RiccatiSolver, RejectsRankDeficientEqualities) {
+// A general row (nearly) dependent on the rows before it in its inputs is dropped, as if the
+// node had not had it (the KKT solution of the problem without it), where a projection that met it
+// would divide by its sine to the others (legs without hip yaw: both feet's yaw rates are the
+// base's). Rows that fix one input twice are still refused.
+TEST(RiccatiSolver, DropsDependentEqualityRowsAndRejectsAnInputFixedTwice) {
   std::mt19937 rng(4);
   auto nodes = testing::randomLqProblem(4, 4, 3, 2, [](int) { return 2; }, rng);
-  nodes[2].D.row(1) = 2.0 * nodes[2].D.row(0);  // dependent rows
-  std::vector<Eigen::VectorXd> dx, du;
+  const Eigen::VectorXd dx0 = Eigen::VectorXd::Random(4);
+  std::vector<Eigen::VectorXd> dx, du, dxRef, duRef;
   RiccatiSolver solver(4, 4, 3);
-  EXPECT_FALSE(solver.solve(nodes, Eigen::VectorXd::Zero(4), dx, du));
+  for (const double angle : {0.0, 1e-4}) {
+    SCOPED_TRACE(angle);
+    auto dependent = nodes;
+    dependent[2].D.row(1) = 2.0 * nodes[2].D.row(0);
+    dependent[2].D(1, 0) += angle * dependent[2].D.row(1).norm();
+    ASSERT_TRUE(solver.solve(dependent, dx0, dx, du));
+    auto without = dependent;
+    without[2].neq = 1;
+    testing::solveByKkt(without, dx0, dxRef, duRef);
+    for (int k = 0; k <= 4; ++k) EXPECT_LT((dx[k] - dxRef[k]).norm(), 1e-8 * (1 + dxRef[k].norm())) << k;
+    for (int k = 0; k < 4; ++k) EXPECT_LT((du[k] - duRef[k]).norm(), 1e-8 * (1 + duRef[k].norm())) << k;
+  }
   // Two unit rows fixing the same input.
   nodes = testing::randomLqProblem(4, 4, 3, 2, [](int) { return 2; }, rng);
   nodes[1].D.setZero();
