@@ -126,6 +126,12 @@ Refusal ModeMachine::checkPose(const OperatorCommand& c, char (&message)[kMessag
                   settingName(s, &s.max_pose_yaw, "the yaw limit"), s.max_pose_yaw);
     return Refusal::kOutOfRange;
   }
+  if (c.yaw != 0.0 && !s.feet_cannot_yaw.empty()) {
+    std::snprintf(message, kMessageLength,
+                  "yaw %.3f rad: this robot cannot turn its base over its feet: %s", c.yaw,
+                  s.feet_cannot_yaw.c_str());
+    return Refusal::kOutOfRange;
+  }
   return Refusal::kNone;
 }
 
@@ -195,6 +201,14 @@ Refusal ModeMachine::handle(const OperatorCommand& c, double t, const Situation&
                           settingName(s, field[i], "limit"), lim[i]);
             return Refusal::kOutOfRange;
           }
+        // Turning needs a foot that turns relative to the pelvis; walking straight with a yaw
+        // asked for would go where the operator did not mean to. Refuse, and say why.
+        if (c.yaw_rate != 0.0 && !s.feet_cannot_yaw.empty()) {
+          std::snprintf(message, kMessageLength,
+                        "yaw rate %.3f: this robot cannot turn: %s; walk with yaw rate 0 (vx and "
+                        "vy as asked)", c.yaw_rate, s.feet_cannot_yaw.c_str());
+          return Refusal::kOutOfRange;
+        }
         const double ttl = c.ttl > 0.0 ? c.ttl : s.command_ttl;
         if (ttl > s.max_command_ttl) {
           std::snprintf(message, kMessageLength,

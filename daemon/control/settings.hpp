@@ -41,6 +41,9 @@ struct ControlSettings {
   // robot
   std::array<std::string, kNumContacts> contact_frames;
   std::string imu_frame;
+  /// Empty when a foot can turn about the vertical relative to the base (a hip yaw); else why
+  /// neither can: such a robot cannot turn, and walk and pose refuse a yaw (profile::settingsFor).
+  std::string feet_cannot_yaw;
 
   // estimator
   bool use_truth;         ///< control on the simulator's ground truth (diagnostics)

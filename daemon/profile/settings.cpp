@@ -5,9 +5,14 @@
 #include <sstream>
 #include <stdexcept>
 
+#include <Eigen/QR>
+
 #include "common/closest_name.hpp"  // plugins/common
 #include "common/format.hpp"
 #include "control/stand_posture.hpp"
+#include "model/frames.hpp"
+#include "model/configuration.hpp"
+#include "model/forward_kinematics.hpp"
 #include "model/urdf_loader.hpp"
 #include "profile/schema.hpp"
 
@@ -209,6 +214,30 @@ model::Model loadModel(const Profile& profile) {
   return model;
 }
 
+namespace {
+/// Why neither foot can turn about the vertical relative to the base at the nominal posture
+/// (empty if one can): the vertical is not among the angular velocities the leg's joints give
+/// the foot (the least-squares residual of J_ω q̇ = e_z is not small). A robot with no hip yaw,
+/// or with both hip yaws locked, cannot turn: its feet stay parallel to the pelvis.
+std::string feetCannotYaw(const model::Model& model, const control::ControlSettings& c) {
+  model::VecX<double> q = model::neutralConfiguration(model);
+  for (int j = 0; j < model.nj(); ++j) q[model::Model::qIndexOfJoint(j)] = c.nominal_q[j];
+  model::Data<double> data(model);
+  model::forwardKinematics(model, data, q);
+  Eigen::MatrixXd J(6, model.nv);
+  for (int foot : {0, 2}) {
+    const int f = model.findFrame(c.contact_frames[foot]);
+    if (f < 0) return "";
+    model::frameJacobian(model, data, f, J);
+    const Eigen::MatrixXd Jw = J.bottomRows(3).rightCols(model.nj());
+    const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+    const Eigen::VectorXd v = Jw.completeOrthogonalDecomposition().solve(z);
+    if ((Jw * v - z).norm() < 0.5) return "";
+  }
+  return "no joint of either leg turns its foot about the vertical (no hip yaw, or locked)";
+}
+}  // namespace
+
 Settings settingsFor(const Profile& p, const model::Model& model) {
   Settings s = readSettings(p);
   Problems problems(p, s);
@@ -266,6 +295,8 @@ Settings settingsFor(const Profile& p, const model::Model& model) {
     if (!s.joints.posture.count(model.jointName[j + 1]) &&
         (model.lowerPositionLimit[j] > 0 || model.upperPositionLimit[j] < 0))
       c.nominal_q[j] = 0.5 * (model.lowerPositionLimit[j] + model.upperPositionLimit[j]);
+
+  c.feet_cannot_yaw = feetCannotYaw(model, c);
 
   // Gains per group.
   perJoint(s, s.joints.kp, groupOf, c.kp, problems);

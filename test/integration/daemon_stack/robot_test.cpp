@@ -103,6 +103,19 @@ INSTANTIATE_TEST_SUITE_P(
       return name;
     });
 
+/// The robot whose legs have no hip yaw cannot turn (its feet stay parallel to the pelvis: a yaw
+/// rate could only be walked as a straight line): walk with a yaw rate and pose with a yaw are
+/// refused with the reason, and it keeps standing. (It does not walk yet: see issue 16's notes.)
+TEST(LegsOf5, RefusesToTurnAndSaysWhy) {
+  DaemonStack robot(std::string(TEST_PROFILE_DIR) + "/legs-of-5.yaml");
+  EXPECT_FALSE(robot.settings().feet_cannot_yaw.empty());
+  ASSERT_TRUE(robot.waitForMode(control::Mode::kStand, 5.0));
+  ASSERT_TRUE(robot.run(0.5));
+  EXPECT_EQ(robot.walk(0.4, 0.0, 0.2, 5.0), control::Refusal::kOutOfRange);
+  EXPECT_TRUE(robot.run(1.0));
+  EXPECT_EQ(robot.status().mode, control::Mode::kStand);
+}
+
 /// ballastd --describe-robot's starter profile, as a user saves it, runs the robot: it passes the
 /// checks of a start and the robot stands up and stands on the contact points it placed.
 class StarterProfile : public ::testing::TestWithParam<const char*> {};

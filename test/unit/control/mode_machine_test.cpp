@@ -85,6 +85,35 @@ TEST_F(Modes, WalkExpiresToStandAfterItsTtl) {
   EXPECT_EQ(m_.mode(), Mode::kStand);
 }
 
+// A robot whose feet cannot yaw relative to its pelvis (profile::settingsFor says why) cannot
+// turn: a walk or a pose with a yaw is refused with the reason, and the same without one goes.
+TEST_F(Modes, ARobotThatCannotTurnRefusesAYawAndSaysWhy) {
+  situation_.planner_available = true;
+  settings_.feet_cannot_yaw = "no joint of either leg turns its foot about the vertical";
+  send(CommandKind::kStand, 0.0);
+  m_.update(5.0);
+  ASSERT_EQ(m_.mode(), Mode::kStand);
+  OperatorCommand w;
+  w.vx = 0.4;
+  w.yaw_rate = 0.2;
+  EXPECT_EQ(send(CommandKind::kWalk, 5.0, w), Refusal::kOutOfRange);
+  EXPECT_NE(std::string(message_).find("cannot turn: no joint of either leg"), std::string::npos)
+      << message_;
+  EXPECT_EQ(m_.mode(), Mode::kStand);
+  w.yaw_rate = 0.0;
+  EXPECT_EQ(send(CommandKind::kWalk, 5.1, w), Refusal::kNone);
+  EXPECT_EQ(m_.mode(), Mode::kWalk);
+  OperatorCommand p;
+  p.height = std::nan("");
+  p.yaw = 0.1;
+  EXPECT_EQ(send(CommandKind::kPose, 5.2, p), Refusal::kOutOfRange);
+  EXPECT_NE(std::string(message_).find("cannot turn its base over its feet"), std::string::npos)
+      << message_;
+  p.yaw = 0.0;
+  p.pitch = 0.05;
+  EXPECT_EQ(send(CommandKind::kPose, 5.3, p), Refusal::kNone);
+}
+
 TEST_F(Modes, RecoveryStepsLeaveStandAndComeBack) {
   situation_.planner_available = true;
   send(CommandKind::kStand, 0.0);

@@ -323,6 +323,34 @@ robot:
 
 // robot.locked_joints: fixed at their angle in the model, in no group; a name the URDF lacks is
 // reported at its entry.
+// The settings say whether the robot can turn: the humanoid can, with its wrists locked too;
+// with both hip yaws locked its feet stay parallel to the pelvis and it cannot; one is enough.
+TEST_F(ProfileTest, TheSettingsSayWhetherTheFeetCanYaw) {
+  base();
+  auto cannotYaw = [&](const std::string& path) {
+    const Profile p = Profile::load(path);
+    const model::Model m = loadModel(p);
+    return settingsFor(p, m).control.feet_cannot_yaw;
+  };
+  EXPECT_EQ(cannotYaw(write("a.yaml", "extends: base\n")), "");
+  const std::string both = cannotYaw(write("b.yaml", R"(extends: base
+robot:
+  locked_joints: {left_hip_yaw: 0, right_hip_yaw: 0}
+  joint_groups:
+    legs: [left_hip_roll, left_hip_pitch, left_knee, left_ankle_pitch, left_ankle_roll,
+           right_hip_roll, right_hip_pitch, right_knee, right_ankle_pitch, right_ankle_roll]
+)"));
+  EXPECT_NE(both.find("no joint of either leg turns its foot about the vertical"), std::string::npos)
+      << both;
+  EXPECT_EQ(cannotYaw(write("c.yaml", R"(extends: base
+robot:
+  locked_joints: {left_hip_yaw: 0}
+  joint_groups:
+    legs: [left_hip_roll, left_hip_pitch, left_knee, left_ankle_pitch, left_ankle_roll,
+           right_hip_yaw, right_hip_roll, right_hip_pitch, right_knee, right_ankle_pitch, right_ankle_roll]
+)")), "");
+}
+
 TEST_F(ProfileTest, LockedJointsLeaveTheModelAndTheGroups) {
   base();
   const std::string path = write("p.yaml", R"(extends: base
