@@ -739,6 +739,8 @@ void ControlLoop::record() {
   }
   for (int i = 0; i < kNumPriorityLevels; ++i) f.task_error[i] = output_.task_error[i];
   std::memcpy(f.contact_force, output_.contact_force, sizeof f.contact_force);
+  std::memcpy(f.contact_ref, output_.contact_ref, sizeof f.contact_ref);
+  std::memcpy(f.contact_position, output_.contact_position, sizeof f.contact_position);
   f.mpc_ms = have_plan_ ? plan_.solve_ms : 0.0;
   f.wbc_ms = wbc_ms_;
   f.tick_ms = secondsSince(tick_start_) * 1e3;

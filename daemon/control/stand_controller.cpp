@@ -10,6 +10,13 @@
 namespace ballast::control {
 
 namespace {
+
+/// The contact forces, references and positions of a controller without contact tasks: none.
+void noContactTasks(ControllerOutput& out) {
+  for (auto* values : {out.contact_force, out.contact_ref, out.contact_position})
+    for (int c = 0; c < kNumContacts; ++c) values[c][0] = values[c][1] = values[c][2] = kNaN;
+}
+
 /// 10s³ − 15s⁴ + 6s⁵: 0 → 1 with zero slope and curvature at both ends.
 double smoothstep(double s) {
   return s * s * s * (10.0 + s * (-15.0 + 6.0 * s));
@@ -122,7 +129,7 @@ void StandController::compute(const ControllerInput& in, const double* kp, const
   const double dr = pose_[1] - st.base.rpy[0], dp = pose_[2] - st.base.rpy[1];
   out.task_error[2] = std::sqrt(dr * dr + dp * dp);
   out.task_error[3] = kNaN;
-  for (auto& f : out.contact_force) f[0] = f[1] = f[2] = kNaN;  // no contact forces of its own
+  noContactTasks(out);
 }
 
 void passiveOutput(int num_joints, const double* q, ControllerOutput& out) {
@@ -132,7 +139,7 @@ void passiveOutput(int num_joints, const double* q, ControllerOutput& out) {
     out.q_ref[j] = q[j];
   }
   for (double& e : out.task_error) e = kNaN;
-  for (auto& f : out.contact_force) f[0] = f[1] = f[2] = kNaN;
+  noContactTasks(out);
 }
 
 void dampOutput(int num_joints, const double* q, double damping, ControllerOutput& out) {

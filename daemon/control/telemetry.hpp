@@ -46,6 +46,8 @@ struct TelemetryFrame {
   bool planned_contact[kNumContacts] = {};  ///< stance in the plan in force (standing: all)
   double task_error[kNumPriorityLevels] = {};
   double contact_force[kNumContacts][3] = {};  ///< ControllerOutput::contact_force
+  double contact_ref[kNumContacts][3] = {};       ///< ControllerOutput::contact_ref
+  double contact_position[kNumContacts][3] = {};  ///< ControllerOutput::contact_position
   double mpc_ms = 0.0, wbc_ms = 0.0;
   double tick_ms = 0.0;      ///< the tick's work until it was recorded (read through write)
   double lateness_ms = 0.0;  ///< how late the tick began (real time; 0 in lockstep)
@@ -75,10 +77,10 @@ const std::vector<TelemetryColumn>& telemetryTable();
 std::string telemetryColumnsMan();
 
 /// The most columns a frame has (t, mode, base estimate and truth, command, contacts measured and
-/// planned and their forces, task errors, times, limb error, five values per joint); a test holds
+/// planned, their forces, positions and references, task errors, times, limb error, five values per joint); a test holds
 /// it to the table.
 inline constexpr std::size_t kMaxTelemetryColumns =
-    2 + 28 + 7 + 5 * kNumContacts + kNumPriorityLevels + 5 + 5 * kMaxJoints;
+    2 + 28 + 7 + 11 * kNumContacts + kNumPriorityLevels + 5 + 5 * kMaxJoints;
 
 /// Column names, in file order, for a robot with these joints.
 std::vector<std::string> telemetryColumns(const std::vector<std::string>& joint_names);

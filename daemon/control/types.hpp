@@ -123,6 +123,14 @@ struct ControllerOutput {
   /// in swing), per contact point; NaN from a controller without contact forces (telemetry).
   double contact_force[kNumContacts][3] = {{kNaN, kNaN, kNaN}, {kNaN, kNaN, kNaN},
                                            {kNaN, kNaN, kNaN}, {kNaN, kNaN, kNaN}};
+  /// Per contact point, the position the whole-body controller tracks (a swing's reference, a
+  /// stance point's held position) and where the kinematics of the estimated state put the
+  /// point (world, m); NaN from a controller without contact tasks (telemetry: a swing foot
+  /// that does not follow its trajectory shows as the two apart).
+  double contact_ref[kNumContacts][3] = {{kNaN, kNaN, kNaN}, {kNaN, kNaN, kNaN},
+                                         {kNaN, kNaN, kNaN}, {kNaN, kNaN, kNaN}};
+  double contact_position[kNumContacts][3] = {{kNaN, kNaN, kNaN}, {kNaN, kNaN, kNaN},
+                                              {kNaN, kNaN, kNaN}, {kNaN, kNaN, kNaN}};
 };
 
 enum class FaultKind : std::uint8_t {

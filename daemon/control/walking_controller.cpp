@@ -49,6 +49,11 @@ wbc::WbcStatus WalkingController::compute(const ControllerInput& in, ControllerO
   for (int c = 0; c < kNumContacts; ++c)
     for (int k = 0; k < 3; ++k)
       out.contact_force[c][k] = 3 * c + k < force.size() ? force[3 * c + k] : kNaN;
+  for (int c = 0; c < kNumContacts; ++c)
+    for (int k = 0; k < 3; ++k) {
+      out.contact_ref[c][k] = reference_.contactPosition(k, c);
+      out.contact_position[c][k] = wbc_->contactPositions()(k, c);
+    }
   return status;
 }
 

@@ -85,6 +85,8 @@ class WholeBodyController {
   const Eigen::VectorXd& decision() const { return xi_; }
   const HierarchicalQp& solver() const { return hqp_; }
   const model::Data<double>& data() const { return data_; }
+  /// The contact points' positions (world, 3 × contactCount()) at the last update's state.
+  const Eigen::Matrix3Xd& contactPositions() const { return contactPosition_; }
   /// |τ| limits in use (nj).
   const Eigen::VectorXd& torqueLimit() const { return torqueLimit_; }
 
