@@ -77,18 +77,24 @@ void SwingPlanner::planSteps(const ContactSchedule& schedule, const GaitState& s
   captureFootholds(in, steps_.data(), numSteps_);
 }
 
-Eigen::Vector3d SwingPlanner::footOffset(int contact, const PlanarPose& base,
+Eigen::Vector3d SwingPlanner::footOffset(int contact, double touchDown, const PlanarPose& base,
                                          const GaitState& state, const Eigen::Vector3d& vDesired,
                                          double yawRate, double stance,
-                                         const TerrainQuery& terrain) const {
+                                         const TerrainQuery& terrain) {
   if (!params_.search.enabled) return Eigen::Vector3d::Zero();
+  const int foot = isLeft(contact) ? 0 : 1;
+  auto& known = footOffsets_[foot];
+  for (int i = 0; i < footOffsetCount_[foot]; ++i)
+    if (std::abs(known[i].touchDown - touchDown) < 1e-6) return known[i].offset;
   // The foot's toe and heel by the paper's rule, the same for either point's swing.
   const int toe = contact & ~1, heel = toe + 1;  // kLeftToe, kLeftHeel / kRightToe, kRightHeel
   const auto paper = [&](int c) {
     return raibertFoothold(base, nominalOffsets_[c], state.comVelocity, vDesired, yawRate, stance,
                            params_.foothold, terrain);
   };
-  return footholdOffset(paper(toe), paper(heel), terrain, params_.search);
+  const Eigen::Vector3d offset = footholdOffset(paper(toe), paper(heel), terrain, params_.search);
+  if (footOffsetCount_[foot] < kMaxSwings) known[footOffsetCount_[foot]++] = {touchDown, offset};
+  return offset;
 }
 
 void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& state,
@@ -100,6 +106,7 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
                                  0.0);
   const bool capture = params_.rule == FootholdRule::kCapturePoint;
   if (capture) planSteps(schedule, state, command, until);
+  footOffsetCount_.fill(0);
   for (int c = 0; c < kNumContacts; ++c) {
     std::array<SwingTrajectory, kMaxSwings> previous = swings_[c];
     const int previousCount = count_[c];
@@ -155,7 +162,7 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
         // fell at 2 of 8 stop phases from 1.0 m/s and 4 of 8 from 1.2).
         Eigen::Vector3d p = raibertFoothold(base, nominalOffsets_[c], state.comVelocity, vDesired,
                                             command.yawRate, stance, params_.foothold, terrain);
-        p += footOffset(c, base, state, vDesired, command.yawRate, stance, terrain);
+        p += footOffset(c, s.touchDown, base, state, vDesired, command.yawRate, stance, terrain);
         p = keepFeetApart(c, p, base.yaw, state);
         p.z() = terrain.height(p.x(), p.y());
         s.touchDownPosition = p;

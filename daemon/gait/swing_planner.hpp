@@ -86,10 +86,11 @@ class SwingPlanner {
   void setParameters(const SwingPlannerParameters& p) { params_ = p; }
 
  private:
-  /// footholdOffset() of the foot `contact` belongs to, at its swing's touch-down.
-  Eigen::Vector3d footOffset(int contact, const PlanarPose& base, const GaitState& state,
-                             const Eigen::Vector3d& vDesired, double yawRate, double stance,
-                             const TerrainQuery& terrain) const;
+  /// footholdOffset() of the foot `contact` belongs to, at its swing's touch-down: searched by
+  /// the foot's first point to ask in an update, reused by the other (the same question).
+  Eigen::Vector3d footOffset(int contact, double touchDown, const PlanarPose& base,
+                             const GaitState& state, const Eigen::Vector3d& vDesired,
+                             double yawRate, double stance, const TerrainQuery& terrain);
   Eigen::Vector3d keepFeetApart(int contact, const Eigen::Vector3d& foothold, double yaw,
                                 const GaitState& state) const;
   /// Capture point rule: steps_[0..numSteps_) and their footholds for this update.
@@ -105,6 +106,13 @@ class SwingPlanner {
   std::array<std::array<SwingTrajectory, kMaxSwings>, kNumContacts> swings_{};
   std::array<int, kNumContacts> count_{};
   std::array<Eigen::Vector3d, kNumContacts> stance_{};  ///< position at the last update
+  /// This update's foothold offsets per foot (0 left, 1 right) and touch-down time.
+  struct FootOffset {
+    double touchDown;
+    Eigen::Vector3d offset;
+  };
+  std::array<std::array<FootOffset, kMaxSwings>, 2> footOffsets_{};
+  std::array<int, 2> footOffsetCount_{};
 };
 
 }  // namespace ballast::gait

@@ -319,5 +319,41 @@ TEST_F(SwingPlannerTest, ASwingInProgressKeepsItsLiftOffAndHoldsItsTargetLate) {
   EXPECT_LT((planner.swingAt(kLeftToe, s.t)->touchDownPosition - held).norm(), 1e-12);
 }
 
+/// Nothing observed anywhere: every placement the foothold search tries fails at its first
+/// known(), so the calls count the placements tried.
+class UnknownTerrain final : public TerrainQuery {
+ public:
+  double height(double, double) const override { return 0.0; }
+  bool known(double, double) const override {
+    ++calls;
+    return false;
+  }
+  mutable int calls = 0;
+};
+
+TEST_F(SwingPlannerTest, TheFootholdSearchRunsOncePerFootAndTouchDown) {
+  const ContactSchedule schedule(walk(0.8, 0.2), 0.0);
+  SwingPlannerParameters params = defaults();
+  params.rule = FootholdRule::kPaper;
+  ASSERT_TRUE(params.search.enabled);
+  SwingPlanner planner(params, offsets);
+  GaitState s = state();
+  s.baseVelocity = s.comVelocity = Eigen::Vector3d{0.5, 0, 0};
+  UnknownTerrain terrain;
+  planner.update(schedule, s, VelocityCommand{0.5, 0, 0}, 1.0, terrain);
+  // One search: the paper's placement, then every grid offset within the radius.
+  const FootholdSearchParameters& f = params.search;
+  const int n = static_cast<int>(std::floor(f.radius / f.step + 1e-9));
+  int placements = 1;
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      placements += (i * i + j * j) * f.step * f.step <= f.radius * f.radius + 1e-12;
+  // Toe and heel land together (no toe-off lead): one search per swing of each foot.
+  const int swings = planner.swingCount(kLeftToe) + planner.swingCount(kRightToe);
+  ASSERT_EQ(planner.swingCount(kLeftHeel) + planner.swingCount(kRightHeel), swings);
+  ASSERT_GT(swings, 0);
+  EXPECT_EQ(terrain.calls, swings * placements);
+}
+
 }  // namespace
 }  // namespace ballast::gait
