@@ -342,6 +342,12 @@ void LocomotionPlanner::fillReferences(double t, const gait::PlanarPose& start,
     mpc::NodeReference& r = refs[k];
     const gait::ContactFlags flags = schedule_.flagsAt(tk);
     int stanceCount = 0;
+    // The ground the feet stand on at t_k (a swinging point: where it lands), which the base's
+    // height is above: stepping onto a stage, the terrain under the base put the base over the
+    // floor with a foot already on the stage, that leg crouched by the whole step (its knee and
+    // hip at the torque limits when the other foot lifted), and rose by it when the base passed
+    // the edge. On flat ground both are the same.
+    double support = 0.0;
     for (int c = 0; c < kNumContacts; ++c) {
       r.stance[c] = flags[c];
       stanceCount += flags[c];
@@ -352,6 +358,9 @@ void LocomotionPlanner::fillReferences(double t, const gait::PlanarPose& start,
         r.swingPosition[c] = p.position;
         r.swingVelocity[c] = p.velocity;
       }
+      const gait::SwingTrajectory* swing = swings_.swingAt(c, tk);
+      const Eigen::Vector3d& at = swing ? swing->touchDownPosition : p.position;
+      support += terrain_.height(at.x(), at.y()) / kNumContacts;
     }
     const gait::PlanarPose pose = start.predicted(velocity, k * dt);
     const double cy = std::cos(pose.yaw), sy = std::sin(pose.yaw);
@@ -360,8 +369,7 @@ void LocomotionPlanner::fillReferences(double t, const gait::PlanarPose& start,
     r.x.segment<3>(0) = m * vWorld;
     r.x.segment<3>(3) = Eigen::Vector3d(0.0, 0.0, izz * velocity.yawRate);
     r.x.segment<3>(L.kBasePosition) =
-        Eigen::Vector3d(pose.position.x(), pose.position.y(),
-                        terrain_.height(pose.position.x(), pose.position.y()) + height);
+        Eigen::Vector3d(pose.position.x(), pose.position.y(), support + height);
     r.x.segment<3>(L.kBaseZyx) = Eigen::Vector3d(pose.yaw, command.pitch, command.roll);
     if (r.x.size() == L.nx())  // the single rigid body has no joints
       r.x.segment(L.kJoints, model_.nj()) =

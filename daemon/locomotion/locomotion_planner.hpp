@@ -16,7 +16,8 @@
 //   corrected, not inherited) — restarted from the measured base while the commanded velocity
 //   is still slewing — held within `maxPositionLead` of the measured base so a push is not
 //   followed by a sprint; then an arc over the horizon. Standing: over
-//   the feet, facing their heading plus the pose yaw. Height above the terrain under the base,
+//   the feet, facing their heading plus the pose yaw. Height above the ground the feet stand
+//   on (the terrain under the contact points, a swinging point's where it lands, averaged),
 //   roll and pitch from the pose command;
 //   momentum: m·v_des linear, I_zz·ω_des about z; joints: the nominal posture;
 //   forces: the weight shared by the stance points; joint velocities: zero.
