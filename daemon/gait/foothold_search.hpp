@@ -6,14 +6,16 @@
 // both points moved by one horizontal offset d) is good when, around each point (the point and
 // `patch` ahead, behind, left and right of it), every column is known (observed, not the
 // ground default) and the heights differ by no more than `edgeTolerance` or a slope of
-// `maxSlope` across the patch (no step edge, no steep cell under the point); and toe and heel
-// stand on one level or one such slope. The paper's foothold (d = 0) is kept when it is good; otherwise the good d
-// nearest to it on a grid of `step` within `radius`; none good: the paper's foothold, as
-// before. The search is by the foot's centre (the midpoint of toe and heel), so the swings of
-// its two points, planned one after the other, find the same offset.
+// `maxSlope` across the patch (no step edge, no steep cell under the point); the sole between
+// them crosses no edge; and toe and heel stand on one level or one such slope. The paper's
+// foothold (d = 0) is kept when it is good; otherwise the good d nearest to it on a grid of
+// `step` within `radius`; none good: the paper's foothold, as before. The search is by the
+// foot's centre (the midpoint of toe and heel), so the swings of its two points, planned one
+// after the other, find the same offset.
 //
-// Cost: (2·radius/step + 1)² placements of 10 height samples each; 81 × 10 at the defaults,
-// a few µs per foot on the planner thread. Allocates nothing.
+// Cost: (2·radius/step + 1)² placements of up to 20 height samples each; 169 × 20 at the
+// defaults, some 10 µs per foot, searched once per foot and touch-down on the planner thread.
+// Allocates nothing.
 #pragma once
 
 #include <Eigen/Core>
@@ -26,9 +28,14 @@ namespace ballast::gait {
 
 struct FootholdSearchParameters {
   bool enabled = true;
-  double radius = 0.08;         ///< m, half width of the searched window
+  /// m, half width of the searched window: a foot straddling an edge moves off it by up to
+  /// half its length plus the patch
+  double radius = 0.12;
   double step = 0.02;           ///< m, between the placements tried
-  double patch = 0.03;          ///< m, around each contact point that must be good
+  /// m, around each contact point that must be good: the sole beyond the point (2 cm on the
+  /// humanoid) and a swing's landing error onto a step (3-4 cm measured onto a 15 cm stage,
+  /// where a 3 cm patch put the heel on the edge, and it slid off)
+  double patch = 0.06;
   double edgeTolerance = 0.02;  ///< m, largest height difference under a foot
   double maxSlope = 0.35;       ///< dz per metre (≈ 19°)
 };
@@ -36,25 +43,37 @@ struct FootholdSearchParameters {
 /// Whether the ground under toe and heel at (toe, heel) + d is good (see the header comment).
 inline bool goodPlacement(const Eigen::Vector3d& toe, const Eigen::Vector3d& heel, double dx,
                           double dy, const TerrainQuery& terrain, const FootholdSearchParameters& s) {
-  // Within a point's patch (2·patch wide): a step edge, or a slope steeper than maxSlope.
-  const double patchRise = std::max(s.edgeTolerance, 2.0 * s.patch * s.maxSlope);
+  // Between a point and each sample around it: a step edge, or a slope steeper than maxSlope.
+  // (Held to the patch's width, the rise a slope may make grows with it, and a wide patch took
+  // a 4 cm step for a ramp.)
+  const double patchRise = std::max(s.edgeTolerance, s.patch * s.maxSlope);
   double level[2];
   int k = 0;
   for (const Eigen::Vector3d* p : {&toe, &heel}) {
     const double x = p->x() + dx, y = p->y() + dy;
-    const double xs[5] = {x, x + s.patch, x - s.patch, x, x};
-    const double ys[5] = {y, y, y, y + s.patch, y - s.patch};
-    double lo = INFINITY, hi = -INFINITY;
-    for (int i = 0; i < 5; ++i) {
-      if (!terrain.known(xs[i], ys[i])) return false;
-      const double h = terrain.height(xs[i], ys[i]);
-      lo = std::min(lo, h), hi = std::max(hi, h);
-    }
-    if (hi - lo > patchRise) return false;
-    level[k++] = terrain.height(x, y);
+    if (!terrain.known(x, y)) return false;
+    const double h = terrain.height(x, y);
+    const double xs[4] = {x + s.patch, x - s.patch, x, x};
+    const double ys[4] = {y, y, y + s.patch, y - s.patch};
+    for (int i = 0; i < 4; ++i)
+      if (!terrain.known(xs[i], ys[i]) || std::abs(terrain.height(xs[i], ys[i]) - h) > patchRise)
+        return false;
+    level[k++] = h;
+  }
+  // Under the sole between them, sampled every `step`: no edge (toe on a stage, heel on the
+  // floor is not a slope).
+  const double length = std::hypot(toe.x() - heel.x(), toe.y() - heel.y());
+  const int n = std::max(1, static_cast<int>(std::ceil(length / s.step)));
+  const double soleRise = std::max(s.edgeTolerance, length / n * s.maxSlope);
+  double previous = level[1];
+  for (int i = 1; i <= n; ++i) {
+    const double a = static_cast<double>(i) / n;
+    const double h = terrain.height(heel.x() + dx + a * (toe.x() - heel.x()),
+                                    heel.y() + dy + a * (toe.y() - heel.y()));
+    if (std::abs(h - previous) > soleRise) return false;
+    previous = h;
   }
   // Toe and heel on one level, or on one slope no steeper than maxSlope.
-  const double length = std::hypot(toe.x() - heel.x(), toe.y() - heel.y());
   return std::abs(level[0] - level[1]) <= s.edgeTolerance + s.maxSlope * length;
 }
 

@@ -110,26 +110,15 @@ TEST(MpcPlannerTerrain, FootholdsFollowAMapHandedOverBetweenPlans) {
   ASSERT_FALSE(steps.empty());
   for (const auto& s : steps) EXPECT_EQ(s.position.z(), 0.0) << s.position.x();
 
-  // A 4 cm platform from x = 0.1 m, under the toes of the first steps (the heels land before
-  // it): handed over, then planned on.
-  const auto tree = maps::makeTerrainMap(maps::stage(0.04, 0.1, 2.0, 2.0), 0.02, {-1, 3, -1, 1});
+  // A 4 cm platform under every step ahead: handed over, then planned on. (Not under the toes
+  // alone: a foot across its edge is no foothold, gait/foothold_search.hpp.)
+  const auto tree = maps::makeTerrainMap(maps::stage(0.04, -1.0, 3.0, 2.0), 0.02, {-1, 3, -1, 1});
   planner.setTerrain(std::make_shared<const HeightMap>(HeightMap::fromOcTree(*tree, 0.0)));
   planner.plan(walking(0.01, 0.3), out);
   ASSERT_TRUE(out.valid) << out.message;
   steps = test::plannedTouchDowns(out.plan);
-  int onPlatform = 0, onFloor = 0;
-  for (const auto& s : steps) {
-    const double x = s.position.x(), z = s.position.z();
-    if (x > 0.11) {
-      EXPECT_NEAR(z, 0.04, 1e-6) << x;
-      ++onPlatform;
-    } else if (x < 0.09) {
-      EXPECT_NEAR(z, 0.0, 1e-9) << x;
-      ++onFloor;
-    }
-  }
-  EXPECT_GT(onPlatform, 0);
-  EXPECT_GT(onFloor, 0);
+  ASSERT_FALSE(steps.empty());
+  for (const auto& s : steps) EXPECT_NEAR(s.position.z(), 0.04, 1e-6) << s.position.x();
 }
 
 }  // namespace

@@ -29,7 +29,7 @@ TEST(FootholdSearch, ThePapersFootholdWhereTheGroundIsGood) {
   const FootholdSearchParameters s;
   EXPECT_EQ(footholdOffset(at(1.0), at(0.8), t, s), Eigen::Vector3d::Zero());  // floor
   EXPECT_EQ(footholdOffset(at(1.8), at(1.6), t, s), Eigen::Vector3d::Zero());  // on the stage
-  EXPECT_EQ(footholdOffset(at(1.46), at(1.26), t, s), Eigen::Vector3d::Zero());  // toe by the edge
+  EXPECT_EQ(footholdOffset(at(1.43), at(1.23), t, s), Eigen::Vector3d::Zero());  // toe by the edge
 }
 
 TEST(FootholdSearch, AFootStraddlingTheEdgeMovesBackOffIt) {
@@ -38,12 +38,12 @@ TEST(FootholdSearch, AFootStraddlingTheEdgeMovesBackOffIt) {
   const Eigen::Vector3d toe = at(1.51), heel = at(1.31);
   ASSERT_FALSE(goodPlacement(toe, heel, 0, 0, t, s));
   const Eigen::Vector3d d = footholdOffset(toe, heel, t, s);
-  EXPECT_NEAR(d.x(), -0.06, 1e-9);  // the nearest: toe patch 3 cm before the edge
+  EXPECT_NEAR(d.x(), -0.08, 1e-9);  // the nearest: the toe's patch (6 cm) before the edge
   EXPECT_NEAR(d.y(), 0.0, 1e-9);
   EXPECT_TRUE(goodPlacement(toe, heel, d.x(), d.y(), t, s));
   // Heel just on the stage, toe on it: already good. Heel by the edge: forward onto it.
   const Eigen::Vector3d on = footholdOffset(at(1.71), at(1.51), t, s);
-  EXPECT_NEAR(on.x(), 0.02, 1e-9);
+  EXPECT_NEAR(on.x(), 0.06, 1e-9);
 }
 
 TEST(FootholdSearch, UnknownColumnsAreAvoidedAndNothingGoodKeepsThePapers) {
@@ -68,6 +68,18 @@ TEST(FootholdSearch, ARampWithinTheSlopeIsGoodASteeperOneIsNot) {
   s.maxSlope = 0.35;  // 19°: it is not, anywhere in the window
   EXPECT_FALSE(goodPlacement(at(3.5), at(3.3), 0, 0, t, s));
   EXPECT_EQ(footholdOffset(at(3.5), at(3.3), t, s), Eigen::Vector3d::Zero());
+}
+
+/// A 4 cm step at x = 1 m: less than toe and heel may differ on a slope, but an edge.
+class LowStep final : public TerrainQuery {
+ public:
+  double height(double x, double) const override { return x >= 1.0 ? 0.04 : 0.0; }
+};
+
+TEST(FootholdSearch, ASoleAcrossALowStepIsNotGood) {
+  const FootholdSearchParameters s;
+  EXPECT_FALSE(goodPlacement(at(1.1), at(0.9), 0, 0, LowStep{}, s));  // toe up, heel down
+  EXPECT_TRUE(goodPlacement(at(1.3), at(1.1), 0, 0, LowStep{}, s));   // both on it
 }
 
 TEST(FootholdSearch, AllocatesNothing) {
