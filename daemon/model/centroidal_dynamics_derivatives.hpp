@@ -1,7 +1,8 @@
 // Analytic Jacobians of the planner's dynamics, paper eq. (1) (centroidal_dynamics.hpp):
 //
-//   centroidalDynamicsDerivatives(model, data, contacts, x, u, xdot, Ax, Bu)
-//     xdot (nx) = f(x, u),  Ax (nx x nx) = ∂f/∂x,  Bu (nx x nu) = ∂f/∂u
+//   centroidalDynamicsDerivatives(model, data, contacts, x, u, xdot, Ax, Bu[, derivatives])
+//     xdot (nx) = f(x, u),  Ax (nx x nx) = ∂f/∂x,  Bu (nx x nu) = ∂f/∂u (left as they are
+//     when derivatives is false)
 // O(n) in the number of bodies, double precision, no allocation (data holds the scratch).
 //
 // The base rates solve A(q)·[q̇_b; v_j] = h, so ∂q̇_b/∂q = −A_b⁻¹ ∂(A(q) ν)/∂q at fixed
@@ -24,14 +25,12 @@ void centroidalDynamicsDerivatives(const Model& model, Data<double>& data,
                                    const Eigen::MatrixBase<X>& x, const Eigen::MatrixBase<U>& u,
                                    const Eigen::MatrixBase<Xd>& xdot_,
                                    const Eigen::MatrixBase<MA>& Ax_,
-                                   const Eigen::MatrixBase<MB>& Bu_) {
+                                   const Eigen::MatrixBase<MB>& Bu_, bool derivatives = true) {
   auto& xdot = const_cast<Eigen::MatrixBase<Xd>&>(xdot_);
   auto& Ax = const_cast<Eigen::MatrixBase<MA>&>(Ax_);
   auto& Bu = const_cast<Eigen::MatrixBase<MB>&>(Bu_);
   const CentroidalLayout L{model.nj(), static_cast<int>(contactFrames.size())};
   const int nb = model.nbodies();
-  Ax.setZero();
-  Bu.setZero();
 
   const Vec3<double> p = x.template segment<3>(L.kBasePosition);
   const Vec3<double> zyx = x.template segment<3>(L.kBaseZyx);
@@ -94,6 +93,9 @@ void centroidalDynamicsDerivatives(const Model& model, Data<double>& data,
   xdot.template segment<3>(L.kBasePosition) = base.pdot;
   xdot.template segment<3>(L.kBaseZyx) = Einv * base.omega;
   xdot.segment(L.kJoints, L.nj) = vj;
+  if (!derivatives) return;  // f alone (data.ov, data.oMi as with them): the SQP's line search
+  Ax.setZero();
+  Bu.setZero();
 
   // Writes −A_b⁻¹·(∂h_G) and the torque row's CoM term into column `col` of Ax.
   auto putConfigurationColumn = [&](int col, const Force<double>& dhO, const Vec3<double>& dc) {

@@ -71,20 +71,29 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
   // x_mid = x + (dt/2)·[0; 0; v_j] (see the header); ∂x_mid/∂v_j = (dt/2)·I on the joints.
   ws.xMid = x;
   ws.xMid.segment(L.kJoints, nj).noalias() += 0.5 * dt * u.segment(L.jointVelocity(), nj);
+  // The line search (no node) needs values only: no Jacobians, the same values.
   model::centroidalDynamicsDerivatives(model_, ws.data, contactFrames_, ws.xMid, u, ws.xdot, ws.Ax,
-                                       ws.Bu);
-  for (int c = 0; c < kNumContacts; ++c)
-    model::frameKinematicsZyx(model_, ws.data, contactFrames_[c], ws.xMid, ws.Ax, ws.Bu,
-                              ws.contacts[c]);
-  // Chain rule through x_mid: ∂/∂v_j += (dt/2)·∂/∂q_j.
-  const double half = 0.5 * dt;
-  ws.Bu.middleCols(L.jointVelocity(), nj).noalias() += half * ws.Ax.middleCols(L.kJoints, nj);
-  for (int c = 0; c < kNumContacts; ++c) {
-    model::FrameKinematicsZyx& k = ws.contacts[c];
-    k.dVelocity_du.middleCols(L.jointVelocity(), nj).noalias() +=
-        half * k.dVelocity_dx.middleCols(L.kJoints, nj);
-    ws.dPosition_du[c].setZero();
-    ws.dPosition_du[c].middleCols(L.jointVelocity(), nj) = half * k.dPosition_dx.middleCols(L.kJoints, nj);
+                                       ws.Bu, node != nullptr);
+  if (!node) {
+    for (int c = 0; c < kNumContacts; ++c) {  // as frameKinematicsZyx has them
+      model::FrameKinematicsZyx& k = ws.contacts[c];
+      k.position = model::framePlacement(model_, ws.data, contactFrames_[c]).p;
+      k.velocity = ws.data.ov[model_.frames[contactFrames_[c]].body].pointVelocity(k.position);
+    }
+  } else {
+    for (int c = 0; c < kNumContacts; ++c)
+      model::frameKinematicsZyx(model_, ws.data, contactFrames_[c], ws.xMid, ws.Ax, ws.Bu,
+                                ws.contacts[c]);
+    // Chain rule through x_mid: ∂/∂v_j += (dt/2)·∂/∂q_j.
+    const double half = 0.5 * dt;
+    ws.Bu.middleCols(L.jointVelocity(), nj).noalias() += half * ws.Ax.middleCols(L.kJoints, nj);
+    for (int c = 0; c < kNumContacts; ++c) {
+      model::FrameKinematicsZyx& k = ws.contacts[c];
+      k.dVelocity_du.middleCols(L.jointVelocity(), nj).noalias() +=
+          half * k.dVelocity_dx.middleCols(L.kJoints, nj);
+      ws.dPosition_du[c].setZero();
+      ws.dPosition_du[c].middleCols(L.jointVelocity(), nj) = half * k.dPosition_dx.middleCols(L.kJoints, nj);
+    }
   }
   ws.xdot.head<3>() += ref.externalForce;  // constant: no derivative
   value.xdot = ws.xdot;
@@ -116,12 +125,16 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
       Eigen::Vector3d residual = k.velocity;
       model::Mat3X<double>& dx = ws.rowDx;
       model::Mat3X<double>& du = ws.rowDu;
-      dx = k.dVelocity_dx;
-      du = k.dVelocity_du;
+      if (node) {
+        dx = k.dVelocity_dx;
+        du = k.dVelocity_du;
+      }
       if (!ref.stance[c]) {  // v − (ṗ* + k_p (p* − p))
         residual -= ref.swingVelocity[c] + s.swingPositionGain * (ref.swingPosition[c] - k.position);
-        dx += s.swingPositionGain * k.dPosition_dx;
-        du += s.swingPositionGain * ws.dPosition_du[c];
+        if (node) {
+          dx += s.swingPositionGain * k.dPosition_dx;
+          du += s.swingPositionGain * ws.dPosition_du[c];
+        }
       }
       if (c == toe)
         putRows({0, 1, 2}, residual, dx, du);
