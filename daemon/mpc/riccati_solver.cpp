@@ -12,16 +12,17 @@ double msSince(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 RiccatiSolver::RiccatiSolver(int horizonNodes, int nx, int nu)
-    : N_(horizonNodes), nx_(nx), nu_(nu), proj_(horizonNodes), K_(horizonNodes),
-      k_(horizonNodes), P_(nx, nx), PA_(nx, nx), PB_(nx, nu), Huu_(nu, nu), Hux_(nu, nx),
-      p_(nx), Pb_(nx), hu_(nu), w_(nu) {
+    : N_(horizonNodes), nx_(nx), nu_(nu), proj_(horizonNodes), L_(horizonNodes), G_(horizonNodes),
+      g_(horizonNodes), P_(nx, nx), M_(nx, nx + nu), H_(nx + nu, nx + nu), p_(nx), Pb_(nx),
+      y_(nx + nu), w_(nu) {
   for (Projected& p : proj_) {
     for (auto* v : {&p.free, &p.constrained, &p.fixed, &p.general}) v->reserve(nu);
     p.kind.resize(nu);
   }
   for (int k = 0; k < N_; ++k) {
-    K_[k].resize(nu, nx);
-    k_[k].resize(nu);
+    L_[k].resize(nu, nu);
+    G_[k].resize(nu, nx);
+    g_[k].resize(nu);
   }
 }
 
@@ -88,13 +89,17 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
   if (nK < mg) return false;
   const int nz = nK - mg;
   // The general rows with the fixed inputs substituted: D_K δu_K + C δx + e' = 0.
+  // Qfull = [Y Z_K] from the QR of D_Kᵀ; every product with Y and with Z_K below is taken with
+  // Qfull at once (one larger product instead of two small ones), and its parts read from that.
   if (mg > 0) {
     p.ePrime = n.e(general);
     for (int r = 0; r < mg; ++r)
       for (int j : p.fixed) p.ePrime[r] += n.D(general[r], j) * p.kc[j];
     const auto pivots = p.qr.matrixQR().diagonal().head(mg).cwiseAbs();
     if (!(pivots.minCoeff() > 1e-9 * std::max(1.0, pivots.maxCoeff()))) return false;
-    p.Qfull = p.qr.householderQ();
+    p.Qfull.resize(nK, nK);
+    p.qWork.resize(nK);
+    p.qr.householderQ().evalTo(p.Qfull, p.qWork);  // with a workspace: no allocation
     const auto Rt = p.qr.matrixQR().topLeftCorner(mg, mg).triangularView<Eigen::Upper>().transpose();
     p.Y = p.Qfull.leftCols(mg);
     p.ZK = p.Qfull.rightCols(nz);
@@ -107,17 +112,20 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
     p.Y.resize(nK, 0);
     p.Ct.resize(0, nx_);
     p.ZK.setIdentity(nK, nK);
+    p.Qfull.setIdentity(nK, nK);
   }
   p.nw = nF + nz;
 
   // Dynamics: A' = A + (B_K Y) Ct, B' = [B_F, B_K Z_K], b' = b + B kc.
+  p.AB.resize(nx_, nx_ + p.nw);
+  auto A = p.AB.leftCols(nx_);
+  auto B = p.AB.rightCols(p.nw);
   p.BK = n.B(Eigen::all, K);
-  p.BY.noalias() = p.BK * p.Y;
-  p.A = n.A;
-  p.A.noalias() += p.BY * p.Ct;
-  p.B.resize(nx_, p.nw);
-  p.B.leftCols(nF) = n.B(Eigen::all, F);
-  p.B.rightCols(nz).noalias() = p.BK * p.ZK;
+  p.BQ.noalias() = p.BK * p.Qfull;  // [B_K Y, B_K Z_K]
+  A = n.A;
+  A.noalias() += p.BQ.leftCols(mg) * p.Ct;
+  B.leftCols(nF) = n.B(Eigen::all, F);
+  B.rightCols(nz) = p.BQ.rightCols(nz);
   p.b = n.b;
   p.b.noalias() += n.B * p.kc;
 
@@ -125,14 +133,26 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
   //   Q' = Q + Kcᵀ S_K + S_Kᵀ Kc + Kcᵀ R_KK Kc = Q + Ctᵀ W + Wᵀ Ct,  W = Yᵀ S_K + ½ (Yᵀ R_KK Y) Ct
   //   q' = q + Ctᵀ Yᵀ (r_K + (R kc)_K) + Sᵀ kc
   //   S' = [S_F + (R_FK Y) Ct;  Z_Kᵀ S_K + (Z_Kᵀ R_KK Y) Ct],  R' = [R_FF, R_FK Z_K; ., Z_Kᵀ R_KK Z_K]
+  // T = Qfullᵀ R_KK Qfull holds Yᵀ R_KK Y, Z_Kᵀ R_KK Y and Z_Kᵀ R_KK Z_K in its lower triangle.
+  p.SK = n.S(K, Eigen::all);
+  p.QtSK.noalias() = p.Qfull.transpose() * p.SK;  // [Yᵀ S_K; Z_Kᵀ S_K]
   p.RKK = n.R(K, K);
-  p.RY.noalias() = p.RKK * p.Y;
-  p.W.noalias() = p.Y.transpose() * n.S(K, Eigen::all);
-  p.ZRY.noalias() = p.Y.transpose() * p.RY;  // Yᵀ R_KK Y (scratch)
-  p.W.noalias() += 0.5 * p.ZRY * p.Ct;
+  p.RQ.noalias() = p.RKK * p.Qfull;
+  p.T.resize(nK, nK);
+  p.T.triangularView<Eigen::Lower>() = p.Qfull.transpose() * p.RQ;
+  // CW = [Ct; W], WC = [W; Ct]: Ctᵀ W + Wᵀ Ct = CWᵀ WC, one symmetric product.
+  p.CW.resize(2 * mg, nx_);
+  p.WC.resize(2 * mg, nx_);
+  auto W = p.WC.topRows(mg);
   p.Q = n.Q;
-  p.Q.noalias() += p.Ct.transpose() * p.W;
-  p.Q.noalias() += p.W.transpose() * p.Ct;
+  if (mg > 0) {
+    W = p.QtSK.topRows(mg);
+    W.noalias() += 0.5 * p.T.topLeftCorner(mg, mg).selfadjointView<Eigen::Lower>() * p.Ct;
+    p.WC.bottomRows(mg) = p.Ct;
+    p.CW.topRows(mg) = p.Ct;
+    p.CW.bottomRows(mg) = W;
+    p.Q.triangularView<Eigen::Lower>() += p.CW.transpose() * p.WC;
+  }
   p.Rkc.noalias() = n.R * p.kc;
   p.rK = n.r(K) + p.Rkc(K);
   p.q = n.q;
@@ -143,25 +163,22 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
   p.RFK = n.R(F, K);
   p.S.resize(p.nw, nx_);
   p.S.topRows(nF) = n.S(F, Eigen::all);
-  p.BY.noalias() = p.RFK * p.Y;  // R_FK Y (scratch)
-  p.S.topRows(nF).noalias() += p.BY * p.Ct;
-  p.S.bottomRows(nz).noalias() = p.ZK.transpose() * n.S(K, Eigen::all);
-  p.ZRY.noalias() = p.ZK.transpose() * p.RY;
-  p.S.bottomRows(nz).noalias() += p.ZRY * p.Ct;
+  p.RFY.noalias() = p.RFK * p.Y;
+  p.S.topRows(nF).noalias() += p.RFY * p.Ct;
+  p.S.bottomRows(nz) = p.QtSK.bottomRows(nz);
+  p.S.bottomRows(nz).noalias() += p.T.bottomLeftCorner(nz, mg) * p.Ct;
   p.R.resize(p.nw, p.nw);
   p.R.topLeftCorner(nF, nF) = n.R(F, F);
-  p.R.topRightCorner(nF, nz).noalias() = p.RFK * p.ZK;
-  p.R.bottomLeftCorner(nz, nF) = p.R.topRightCorner(nF, nz).transpose();
-  p.RY.noalias() = p.RKK * p.ZK;  // R_KK Z (scratch)
-  p.R.bottomRightCorner(nz, nz).noalias() = p.ZK.transpose() * p.RY;
+  p.R.bottomLeftCorner(nz, nF).noalias() = p.ZK.transpose() * p.RFK.transpose();
+  p.R.bottomRightCorner(nz, nz).triangularView<Eigen::Lower>() = p.T.bottomRightCorner(nz, nz);
   p.r.resize(p.nw);
   p.r.head(nF) = n.r(F) + p.Rkc(F);
   p.r.tail(nz).noalias() = p.ZK.transpose() * p.rK;
   return true;
 }
 
-void RiccatiSolver::inputStep(const Projected& p, const Eigen::VectorXd& dx,
-                              const Eigen::VectorXd& w, Eigen::VectorXd& du) const {
+void RiccatiSolver::inputStep(const Projected& p, const Eigen::VectorXd& dx, const Eigen::VectorXd& w,
+                              Eigen::VectorXd& du) const {
   const int nF = static_cast<int>(p.free.size());
   du = p.kc;
   du(p.free) += w.head(nF);
@@ -178,45 +195,39 @@ bool RiccatiSolver::solve(const std::vector<LqNode>& nodes, const Eigen::VectorX
 bool RiccatiSolver::sweep(const std::vector<LqNode>& nodes, const Eigen::VectorXd& dx0,
                           std::vector<Eigen::VectorXd>& dx, std::vector<Eigen::VectorXd>& du) {
   const auto t0 = std::chrono::steady_clock::now();
+  const int nx = nx_;
   P_ = nodes[N_].Q;
   p_ = nodes[N_].q;
   for (int k = N_ - 1; k >= 0; --k) {
     const Projected& n = proj_[k];
-    const int nw = n.nw;
-    PA_.noalias() = P_ * n.A;
-    auto PB = PB_.leftCols(nw);
-    PB.noalias() = P_ * n.B;
+    const int nw = n.nw, nab = nx + nw;
+    // H = [A B]ᵀ P [A B] (lower triangle): AᵀPA, BᵀPA and BᵀPB in one product.
+    auto M = M_.leftCols(nab);
+    M.noalias() = P_ * n.AB;
+    auto H = H_.topLeftCorner(nab, nab);
+    H.triangularView<Eigen::Lower>() = n.AB.transpose() * M;
     Pb_ = p_;
     Pb_.noalias() += P_ * n.b;  // P b + p
-    auto Huu = Huu_.topLeftCorner(nw, nw);
-    auto G = Hux_.topRows(nw);
-    auto g = hu_.head(nw);
-    Huu.triangularView<Eigen::Lower>() = n.R;
-    Huu.triangularView<Eigen::Lower>() += n.B.transpose() * PB;
-    G = n.S;
-    G.noalias() += n.B.transpose() * PA_;
-    g = n.r;
-    g.noalias() += n.B.transpose() * Pb_;
-    // H_uu = L Lᵀ (in place); G = L⁻¹ H_ux, g = L⁻¹ h_u; K = −L⁻ᵀ G, k = −L⁻ᵀ g.
+    auto y = y_.head(nab);
+    y.noalias() = n.AB.transpose() * Pb_;  // [Aᵀ; Bᵀ] (P b + p)
+    auto Huu = L_[k].topLeftCorner(nw, nw);
+    auto G = G_[k].topRows(nw);
+    auto g = g_[k].head(nw);
+    Huu.triangularView<Eigen::Lower>() = n.R + H.bottomRightCorner(nw, nw);
+    G = n.S + H.bottomLeftCorner(nw, nx);
+    g = n.r + y.tail(nw);
+    // H_uu = L Lᵀ (in place); G = L⁻¹ H_ux, g = L⁻¹ h_u (K = −L⁻ᵀ G, k = −L⁻ᵀ g).
     Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(Huu);
     if (llt.info() != Eigen::Success) return false;
     const auto L = Huu.triangularView<Eigen::Lower>();
     L.solveInPlace(G);
     L.solveInPlace(g);
-    auto Kk = K_[k].topRows(nw);
-    Kk = -G;
-    L.transpose().solveInPlace(Kk);
-    auto kk = k_[k].head(nw);
-    kk = -g;
-    L.transpose().solveInPlace(kk);
     // P ← Q + AᵀPA − GᵀG (Hux_ᵀ K = −GᵀG);  p ← q + Aᵀ(P b + p) − Gᵀ g
-    P_.triangularView<Eigen::Lower>() = n.Q;
-    P_.triangularView<Eigen::Lower>() += n.A.transpose() * PA_;
+    P_.triangularView<Eigen::Lower>() = n.Q + H.topLeftCorner(nx, nx);
     P_.selfadjointView<Eigen::Lower>().rankUpdate(G.transpose(), -1.0);
-    for (int j = 1; j < nx_; ++j)
+    for (int j = 1; j < nx; ++j)
       for (int i = 0; i < j; ++i) P_(i, j) = P_(j, i);
-    p_ = n.q;
-    p_.noalias() += n.A.transpose() * Pb_;
+    p_ = n.q + y.head(nx);
     p_.noalias() -= G.transpose() * g;
   }
 
@@ -225,11 +236,16 @@ bool RiccatiSolver::sweep(const std::vector<LqNode>& nodes, const Eigen::VectorX
   dx[0] = dx0;
   for (int k = 0; k < N_; ++k) {
     const Projected& n = proj_[k];
-    auto w = w_.head(n.nw);
-    w = k_[k].head(n.nw);
-    w.noalias() += K_[k].topRows(n.nw) * dx[k];
+    const int nw = n.nw;
+    auto w = w_.head(nw);  // w = −L⁻ᵀ (g + G δx)
+    w = g_[k].head(nw);
+    w.noalias() += G_[k].topRows(nw) * dx[k];
+    L_[k].topLeftCorner(nw, nw).triangularView<Eigen::Lower>().transpose().solveInPlace(w);
+    w = -w;
     inputStep(n, dx[k], w_, du[k]);
-    dx[k + 1] = nodes[k].A * dx[k] + nodes[k].B * du[k] + nodes[k].b;
+    dx[k + 1] = nodes[k].b;
+    dx[k + 1].noalias() += nodes[k].A * dx[k];
+    dx[k + 1].noalias() += nodes[k].B * du[k];
   }
   timings_.riccatiMs = msSince(t0);
   return true;

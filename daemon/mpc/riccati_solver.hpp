@@ -10,7 +10,8 @@
 //     the cost cost O(n²·mg) instead of O(n³);
 //  2. a backward Riccati recursion on (δx, w) gives the feedback w = K δx + k per node. With
 //     H_uu = L Lᵀ and G = L⁻¹ H_ux, the update P ← Q + AᵀPA − GᵀG is a symmetric rank-nw update,
-//     computed on one triangle;
+//     computed on one triangle; AᵀPA, BᵀPA and BᵀPB are the lower triangle of one product
+//     [A B]ᵀ (P [A B]), and K is kept as L and G (the forward pass solves with L);
 //  3. a forward pass from δx_0 (the initial-state defect) rolls out δx and δu.
 // The result is the exact minimiser of the LQ problem (checked against a direct KKT solve in
 // test/unit/mpc). Work arrays are allocated with the solver and reused; a node whose contact
@@ -55,12 +56,14 @@ class RiccatiSolver {
     std::vector<char> kind;                              ///< per input (scratch)
     Eigen::MatrixXd Y, Ct, ZK;  ///< Kc_K = Y·Ct (nK × mg, mg × nx); null basis of D_K (nK × nz)
     Eigen::VectorXd kc;         ///< nu
-    Eigen::MatrixXd A, B, Q, R, S;  ///< the LQ problem in (δx, w)
+    /// The LQ problem in (δx, w): AB = [A B] side by side, so that the sweep carries both
+    /// through P in one product; Q and R hold their lower triangles only (all the sweep reads).
+    Eigen::MatrixXd AB, Q, R, S;
     Eigen::VectorXd b, q, r;
     int nw = 0;
     // Scratch of this node's projection (kept to reuse the memory).
-    Eigen::MatrixXd DKt, Qfull, BK, BY, RKK, RY, W, ZRY, RFK;
-    Eigen::VectorXd ePrime, Rkc, rK, ct;
+    Eigen::MatrixXd DKt, Qfull, BK, BQ, RKK, RQ, T, SK, QtSK, RFK, RFY, CW, WC;
+    Eigen::VectorXd ePrime, Rkc, rK, ct, qWork;
     Eigen::HouseholderQR<Eigen::MatrixXd> qr;
   };
   /// δu for a state deviation and w (step 1 undone).
@@ -69,10 +72,12 @@ class RiccatiSolver {
 
   int N_, nx_, nu_;
   std::vector<Projected> proj_;
-  std::vector<Eigen::MatrixXd> K_;
-  std::vector<Eigen::VectorXd> k_;
-  Eigen::MatrixXd P_, PA_, PB_, Huu_, Hux_;
-  Eigen::VectorXd p_, Pb_, hu_, w_;
+  // Per node, what the forward pass needs: H_uu = L Lᵀ (lower triangle), G = L⁻¹ H_ux and
+  // g = L⁻¹ h_u, so that w = −L⁻ᵀ (g + G δx) without forming K = −L⁻ᵀ G.
+  std::vector<Eigen::MatrixXd> L_, G_;
+  std::vector<Eigen::VectorXd> g_;
+  Eigen::MatrixXd P_, M_, H_;
+  Eigen::VectorXd p_, Pb_, y_, w_;
   RiccatiTimings timings_;
 };
 
