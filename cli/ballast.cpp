@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -246,9 +247,11 @@ int plot(const PlotRequest& r, const Options& o) {
       std::fprintf(stderr, "ballast plot: %s is truncated (%s): plotted up to its last complete block\n",
                    r.file.c_str(), truncation.c_str());
     data = temp;
+    p.sliced = true;
   }
   cli::TelemetryTable table;
-  if (!cli::readTelemetry(data, table, error, p.from, p.to)) {
+  const double inf = HUGE_VAL;
+  if (!cli::readTelemetry(data, table, error, p.sliced ? -inf : p.from, p.sliced ? inf : p.to)) {
     if (!temp.empty()) {  // the message names the converted file: say where it came from
       std::remove(temp.c_str());
       error = r.file + " (the figure's columns in the window): " + error;

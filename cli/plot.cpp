@@ -125,8 +125,9 @@ class Script {
       : t_(t), data_(data), every_(every > 1 ? "every " + std::to_string(every) + " " : ""),
         window_("[" + (std::isfinite(o.from) ? number(o.from) : "*") + ":" +
                                     (std::isfinite(o.to) ? number(o.to) : "*") + "]") {
-    g_ << "tmin = " << (std::isfinite(o.from) ? number(o.from) : "-1e300")
-       << "\ntmax = " << (std::isfinite(o.to) ? number(o.to) : "1e300")
+    const bool filter = !o.sliced;
+    g_ << "tmin = " << (filter && std::isfinite(o.from) ? number(o.from) : "-1e300")
+       << "\ntmax = " << (filter && std::isfinite(o.to) ? number(o.to) : "1e300")
        << "\ninwin(t) = t >= tmin && t <= tmax\nbin(x, w) = w * floor(x / w) + w / 2\n";
   }
 

@@ -55,6 +55,9 @@ struct PlotOptions {
   const Figure* figure = &kFigures[0];
   std::string title;
   double from = -1.0 / 0.0, to = 1.0 / 0.0;  ///< the window of t (s)
+  /// The data holds the window's frames only (a slice of a binary recording): the window then
+  /// sets the time axes and is not applied to the data again.
+  bool sliced = false;
 };
 
 /// The gnuplot script for a figure of the recording in data (a text recording).

@@ -161,6 +161,14 @@ TEST_F(Plot, EachFigureHasItsPanels) {
   EXPECT_NE(g.find("(1 frame in 3 drawn)"), std::string::npos);
   o.figure = findFigure("timing");
   EXPECT_EQ(plotScript(t, path_, "/tmp/x.png", o).find("every "), std::string::npos);
+  // A slice of a binary recording holds the window's frames only: the window sets the axes and
+  // is not applied to the data again.
+  o.sliced = true;
+  g = plotScript(t, path_, "/tmp/x.png", o);
+  EXPECT_NE(g.find("set xrange [0.0005:*]"), std::string::npos) << g;
+  EXPECT_NE(g.find("tmin = -1e300"), std::string::npos) << g;
+  o.sliced = false;
+  EXPECT_NE(plotScript(t, path_, "/tmp/x.png", o).find("tmin = 0.0005"), std::string::npos);
   // Only the rows of a window count.
   TelemetryTable w;
   ASSERT_TRUE(readTelemetry(path_, w, error, 0.0005, 1)) << error;
