@@ -121,6 +121,9 @@ std::string renderStatus(const json& s) {
   }
   if (s.contains("map") && s["map"].is_object())
     o << "map        " << s["map"].value("path", "") << "\n";
+  if (s.contains("terrain") && s["terrain"].is_object() && !s["terrain"].value("map_agrees", true))
+    o << "terrain    the map DISAGREES with the stance feet by " << fmt("%.3f", num(s["terrain"], "map_error_m"))
+      << " m: planning on the plane they stood on until it agrees\n";
   return o.str();
 }
 

@@ -356,6 +356,7 @@ void ControlLoop::planPost() {
     } else {
       plan_ = *p;  // a copy the planner cannot overwrite (about 80 kB, once per plan)
       have_plan_ = true;
+      mapAgreement();
       modes_.recovering(plan_.plan.recovering, t_);
       // The solves' recent latency, for the next plan's lead (real time).
       solve_time_ = solve_time_ > 0.0 ? 0.8 * solve_time_ + 0.2 * p->solve_ms * 1e-3
@@ -370,6 +371,23 @@ void ControlLoop::planPost() {
                   planner_streak_ > 0 ? planner_message_ : "the planner did not answer");
     raise(FaultKind::kPlanner, message_);
   }
+}
+
+void ControlLoop::mapAgreement() {
+  if (plan_.map_agrees == map_agrees_) return;
+  map_agrees_ = plan_.map_agrees;
+  if (!map_agrees_)
+    std::snprintf(message_, sizeof(message_),
+                  "terrain: the map is %.3f m off where the stance feet stand (%s %.3f m and a "
+                  "cell): planning on the plane they stood on until it agrees",
+                  plan_.map_disagreement,
+                  settingName(*settings_, &settings_->map_tolerance, "tolerance"),
+                  settings_->map_tolerance);
+  else
+    std::snprintf(message_, sizeof(message_),
+                  "terrain: the map agrees with the stance feet again (%.3f m): planning on it",
+                  plan_.map_disagreement);
+  event(!map_agrees_, message_);
 }
 
 double ControlLoop::planLead() const {
@@ -696,6 +714,8 @@ void ControlLoop::publish() {
   for (int c = 0; c < kNumContacts; ++c) p.contacts[c] = input_.state.contact[c];
   for (int i = 0; i < 3; ++i) p.external_force[i] = input_.state.external_force[i];
   p.mpc_ms = have_plan_ ? plan_.solve_ms : 0.0;
+  p.map_agrees = map_agrees_;
+  p.map_disagreement = have_plan_ ? plan_.map_disagreement : kNaN;
   p.planner_failures = planner_failures_;
   p.position_fixes = position_fixes_;
   p.wbc_degraded_ticks = wbc_degraded_;

@@ -142,6 +142,8 @@ class ControlLoop {
   double secondsSince(std::uint64_t start_ns) const;
   /// How far ahead of its input the next plan starts (PlannerInput::lead).
   double planLead() const;
+  /// A plan whose map agreement changed: the event, warning when it stops agreeing.
+  void mapAgreement();
 
   const model::Model& model_;
   backend::Backend& backend_;
@@ -164,6 +166,7 @@ class ControlLoop {
   /// The last valid plan, the loop's own copy (the planner's buffers turn over underneath).
   PlannerOutput plan_;
   bool have_plan_ = false;
+  bool map_agrees_ = true;  // the last plan's PlannerOutput::map_agrees
   /// This tick's contact schedule from the plan in force (standing, no plan: every point).
   std::array<bool, kNumContacts> scheduled_{true, true, true, true};
   bool planning_ = false;  // inputs are being posted (stand, walk)

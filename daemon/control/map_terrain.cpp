@@ -1,5 +1,7 @@
 #include "control/map_terrain.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <utility>
 
@@ -57,6 +59,51 @@ bool MapTerrain::refresh(std::uint64_t wanted) {
       max_latency_ms_.store(ms, std::memory_order_relaxed);
   }
   return true;
+}
+
+void MapTerrain::checkUnderFeet(const EstimatedState& state, double tolerance) {
+  if (!(tolerance > 0.0)) {
+    agrees_ = true;
+    disagreement_ = kNaN;
+    checked_.reset();
+    return;
+  }
+  // A map that agreed is checked again when it changes, against the map before it; one that
+  // does not agree, or the first, against where the feet are.
+  const std::shared_ptr<const terrain::HeightMap>& map = current_->map;
+  if (agrees_ && map == checked_) return;
+  const terrain::HeightMap* before = agrees_ ? checked_.get() : nullptr;
+  const double cell = map->resolution();
+  double worst = -1.0, stance_z = 0.0;
+  int stance = 0;
+  for (int c = 0; c < kNumContacts; ++c) {
+    if (!state.contact[c]) continue;
+    const double* p = state.contact_position[c];
+    if (!std::isfinite(p[0]) || !std::isfinite(p[1]) || !std::isfinite(p[2])) continue;
+    stance_z += p[2];
+    ++stance;
+    const double ground = before && before->known(p[0], p[1]) ? before->height(p[0], p[1]) : p[2];
+    double error = HUGE_VAL;
+    for (int i = -1; i <= 1; ++i)
+      for (int j = -1; j <= 1; ++j) {
+        const double x = p[0] + i * cell, y = p[1] + j * cell;
+        if (map->known(x, y)) error = std::min(error, std::abs(ground - map->height(x, y)));
+      }
+    if (error < HUGE_VAL) worst = std::max(worst, error);
+  }
+  if (worst < 0.0) {  // nothing to compare: as it was, and checked again at the next update
+    disagreement_ = kNaN;
+    return;
+  }
+  checked_ = map;
+  disagreement_ = worst;
+  const double limit = tolerance + cell;
+  if (agrees_ && worst > limit) {
+    agrees_ = false;
+    plane_ = stance_z / stance;
+  } else if (!agrees_ && worst <= 0.5 * limit) {
+    agrees_ = true;
+  }
 }
 
 }  // namespace ballast::control

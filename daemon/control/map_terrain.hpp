@@ -19,6 +19,19 @@
 //
 // Latency: a published map carries the wall time its scan was handed off by the loop; when the
 // planner takes it, the difference is the scan-to-planner latency (last and largest kept).
+//
+// Agreement (checkUnderFeet, each update): the estimator takes the stance contact points'
+// heights from the plan's terrain, so where the feet stand the map in use and the feet agree.
+// A new map (loaded, seeded, or changed by scans) is compared with the map before it under the
+// stance points: one that moves the ground under the feet by more than a tolerance disagrees
+// (the first map, and one that disagrees, are compared with the estimated points themselves).
+// A map that disagrees is not used, neither for footholds nor for the heights the estimator is
+// given: height() reads the plane the stance points stood on when it stopped agreeing, known
+// everywhere, until a map agrees with the feet again. A wrong map would otherwise lift the
+// estimated base by its error, and the whole-body controller would put the robot there. The
+// feet and the map are not compared between map changes: a foot that lands off its planned
+// foothold (a few cm short of a step's edge) puts its estimate off the map for a moment, and
+// that is the swing's error, not the map's.
 #pragma once
 
 #include <array>
@@ -26,6 +39,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "control/types.hpp"
 #include "gait/terrain_query.hpp"
 #include "terrain/height_map.hpp"
 
@@ -49,10 +63,31 @@ class MapTerrain final : public gait::TerrainQuery {
 
   /// Planner thread: the map in use (until the next refresh()).
   const terrain::HeightMap& map() const { return *current_->map; }
-  double height(double x, double y) const override { return current_->map->height(x, y); }
+  /// The map's height, or while it disagrees (checkUnderFeet) the plane the feet stood on.
+  double height(double x, double y) const override {
+    return agrees_ ? current_->map->height(x, y) : plane_;
+  }
   /// A map's unknown columns are not known; without a map file the floor is, as the profile
-  /// says (HeightMap::floorKnown). A cleared live map knows nothing it did not observe.
-  bool known(double x, double y) const override { return current_->map->known(x, y); }
+  /// says (HeightMap::floorKnown). A cleared live map knows nothing it did not observe. The
+  /// plane of a map that disagrees is known everywhere.
+  bool known(double x, double y) const override {
+    return !agrees_ || current_->map->known(x, y);
+  }
+
+  /// Planner thread, after refresh(): checks a map in use that is new since the last check
+  /// (or every update while it disagrees) under the stance contact points of `state` (those the
+  /// estimator has in contact, world). A point's error is the distance from its ground (the
+  /// previous map's height under it, or its own z for the first map and while the map
+  /// disagrees) to the nearest column height within one cell of it (a foot by a step's edge
+  /// stands on one side of it), over known columns. The map disagrees when an error exceeds
+  /// `tolerance` plus the map's cell (a surface reads as the top of its cell), and agrees again
+  /// when every error is within half that. `tolerance` <= 0: never checked.
+  void checkUnderFeet(const EstimatedState& state, double tolerance);
+  /// Planner thread: whether the map in use agrees (always, when unchecked).
+  bool agrees() const { return agrees_; }
+  /// Planner thread: the largest error of the last check, m (NaN: no stance point over a
+  /// known column then, or unchecked).
+  double disagreement() const { return disagreement_; }
 
   /// Any thread: ms from a scan's hand-off to the planner taking its map (the last one, the
   /// largest since start); -1 before any.
@@ -71,6 +106,10 @@ class MapTerrain final : public gait::TerrainQuery {
   std::atomic<std::uint64_t> serial_{0};  // of the newest published
   std::atomic<std::uint64_t> writing_{0};  // publishers' serials (publish() may race itself)
   std::shared_ptr<const Published> current_;  // planner thread only
+  bool agrees_ = true;        // planner thread only
+  double plane_ = 0.0;        // m: the feet's plane while the map disagrees
+  double disagreement_ = kNaN;
+  std::shared_ptr<const terrain::HeightMap> checked_;  // the map the last check passed or made
   std::atomic<double> last_latency_ms_{-1.0}, max_latency_ms_{-1.0};
   std::atomic<std::uint64_t> scan_in_use_{0};
 };

@@ -17,7 +17,8 @@ MpcPlanner::MpcPlanner(const model::Model& model, const ControlSettings& setting
       posture_(model, settings),
       q_(Eigen::VectorXd::Zero(model.nq)),
       v_(Eigen::VectorXd::Zero(model.nv)),
-      sampler_(model, locomotion::contactFrameIds(model, settings.locomotion)) {
+      sampler_(model, locomotion::contactFrameIds(model, settings.locomotion)),
+      map_tolerance_(settings.map_tolerance) {
   command_.standingJoints = Eigen::VectorXd::Zero(model.nj());
   rebuild();
 }
@@ -72,12 +73,16 @@ void MpcPlanner::plan(const PlannerInput& input, PlannerOutput& output) {
     }
     if (next) {
       settings_ = next->locomotion;
+      map_tolerance_ = next->map_tolerance;
       posture_.setNominal(*next);
       rebuild();
     } else if (input.restart) {
       rebuild();
     }
   }
+  terrain_.checkUnderFeet(input.state, map_tolerance_);
+  output.map_agrees = terrain_.agrees();
+  output.map_disagreement = terrain_.disagreement();
   const bool fresh = !planned_;
   toModelState(model_, input.state, q_, v_);
   const BaseCommand& c = input.command;

@@ -72,6 +72,7 @@ class MpcPlanner final : public Planner {
   locomotion::PlanSample at_t_, at_lead_;
   /// Moves the model state (q_, v_) on from t to t + lead as previous_ predicts.
   void predict(double t, double lead);
+  double map_tolerance_;  // ControlSettings::map_tolerance
   bool walking_ = false;
   bool planned_ = false;  // the planner has made a plan since it was built
   static constexpr int kFreshIterations = 5;

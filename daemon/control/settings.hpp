@@ -48,6 +48,9 @@ struct ControlSettings {
   // estimator
   bool use_truth;         ///< control on the simulator's ground truth (diagnostics)
   double ground_height;   ///< m, terrain under the robot at start
+  /// m: the terrain map agrees with the stance feet within this plus one cell (MapTerrain::
+  /// checkUnderFeet); 0: not checked.
+  double map_tolerance;
   estimation::EstimatorSettings estimator;
   bool use_position_fix;  ///< fuse Sensors::position_fix when the backend sends them
 

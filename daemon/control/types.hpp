@@ -100,6 +100,11 @@ struct PlannerOutput {
   bool exception = false;      ///< the planner threw (a bug, not a hard problem): a fault
   double solve_ms = 0.0;
   char message[kMessageLength] = {};  ///< why it is not valid
+  /// Whether the terrain map agrees with the stance feet (MapTerrain::checkUnderFeet; while it
+  /// does not, the plan is made on the plane the feet stood on), and its largest error, m (NaN:
+  /// nothing to compare).
+  bool map_agrees = true;
+  double map_disagreement = kNaN;
   /// The MPC's optimal state and input trajectories x*(t), u*(t), the contact schedule and the
   /// swing trajectories.
   locomotion::Plan plan;
@@ -197,6 +202,10 @@ struct LoopStatus {
   bool contacts[kNumContacts] = {};
   double external_force[3] = {};  ///< estimated push, world, N (EstimatedState::external_force)
   double mpc_ms = 0.0;      ///< last planner solve
+  /// The terrain map agrees with the stance feet (PlannerOutput::map_agrees) and its largest
+  /// error under them, m (NaN: nothing compared).
+  bool map_agrees = true;
+  double map_disagreement = kNaN;
   double wbc_ms = 0.0;      ///< last controller computation (plan sampling + WBC, or standing)
   double wbc_ms_max = 0.0;  ///< since start
   std::uint64_t tick_overruns = 0;       ///< late ticks since start (timing.late_ticks)

@@ -222,6 +222,7 @@ const Schema<Settings> kTable({
   // ---- terrain
   path("terrain.map", "", "OctoMap file (.bt or .ot) of the terrain for the planner; the simulation builds its world from it at start (a profile switch changes the planner's map only); empty: a flat floor").into<&S::terrain_map>(),
   number("terrain.ground_height", "0", -100, 100, "m", "height of the floor under the robot at start").into<&S::control, &C::ground_height>(),
+  number("terrain.map_tolerance", "0.03", 0, 1, "m", "the terrain map agrees with the robot when the ground it has under each stance contact point is within this plus one of its cells of the point; a map that does not (a wrong map loaded, seeded, or scanned under the feet) is a warning in the status and the log, and until it agrees again the planner plans on the plane the feet stood on and gives the estimator those heights, so that a wrong map never lifts the estimated base; 0: never checked").into<&S::control, &C::map_tolerance>(),
   number("terrain.clearance", "0.5", 0.05, 5, "m", "ground is what a foot can stand on: occupied cells whose bottom is more than this above the stance feet (a ceiling, a table top) are not ground").needsRestart().into<&S::mapping, &MS::map, &LM::rule, &terrain::GroundRule::clearance>(),
 
   // ---- mapping: the live map from the robot's lidar

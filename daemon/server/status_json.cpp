@@ -85,6 +85,7 @@ json statusJson(const control::LoopStatus& s, const StatusExtras& x, bool joints
   j["recording"] = x.recording;
   j["settings_held"] = x.settings_held;
   j["map"] = x.map;
+  j["terrain"] = {{"map_agrees", s.map_agrees}, {"map_error_m", s.map_disagreement}};
   if (joints) {
     json names = json::array(), q = json::array(), tau = json::array();
     for (int k = 0; k < s.num_joints; ++k) {

@@ -50,6 +50,81 @@ TEST(MapTerrain, APublishedMapIsTakenAtTheNextRefresh) {
   EXPECT_NEAR(terrain.height(2.0, 0.0), 0.15, 0.0101);
 }
 
+/// Stance contact points at (x, ±0.1, z) and (x - 0.2, ±0.1, z), as a standing robot has.
+EstimatedState feetAt(double x, double z) {
+  EstimatedState s;
+  const double at[kNumContacts][2] = {{x, 0.1}, {x - 0.2, 0.1}, {x, -0.1}, {x - 0.2, -0.1}};
+  for (int c = 0; c < kNumContacts; ++c) {
+    s.contact[c] = true;
+    s.contact_position[c][0] = at[c][0];
+    s.contact_position[c][1] = at[c][1];
+    s.contact_position[c][2] = z;
+  }
+  return s;
+}
+
+TEST(MapTerrain, AMapThatMovesTheGroundUnderTheFeetIsNotUsedUntilItAgrees) {
+  const std::shared_ptr<const HeightMap> stage = labStage();
+  MapTerrain terrain(std::make_shared<const HeightMap>(0.0));
+  const double tolerance = 0.03, cell = stage->resolution();
+  // The first map is compared with the feet: on the floor, it agrees to the millimetre.
+  terrain.checkUnderFeet(feetAt(2.5, 0.001), tolerance);
+  EXPECT_TRUE(terrain.agrees());
+  EXPECT_NEAR(terrain.disagreement(), 0.001, 1e-9);
+  // A map that puts the stage where the robot stands on the floor (a wrong map): it moves the
+  // ground under the feet by the stage's height, and the planner gets the plane the feet stand
+  // on, known everywhere.
+  terrain.publish(stage);
+  ASSERT_TRUE(terrain.refresh());
+  terrain.checkUnderFeet(feetAt(2.5, 0.002), tolerance);
+  EXPECT_FALSE(terrain.agrees());
+  EXPECT_NEAR(terrain.disagreement(), stage->height(2.5, 0.1), 1e-9);
+  for (double x : {0.5, 2.0, 2.5, 40.0}) {
+    EXPECT_DOUBLE_EQ(terrain.height(x, 0.0), 0.002) << x;
+    EXPECT_TRUE(terrain.known(x, 0.0)) << x;
+  }
+  // Nothing to compare (every foot in the air): as it was.
+  EstimatedState air = feetAt(2.5, 0.3);
+  for (bool& c : air.contact) c = false;
+  terrain.checkUnderFeet(air, tolerance);
+  EXPECT_FALSE(terrain.agrees());
+  EXPECT_TRUE(std::isnan(terrain.disagreement()));
+  // While it disagrees it is compared with the feet at every update. Hysteresis: back within
+  // the limit but not within half of it, it still disagrees ...
+  const double limit = tolerance + cell, top = stage->height(2.5, 0.1);
+  terrain.checkUnderFeet(feetAt(2.5, top - 0.8 * limit), tolerance);
+  EXPECT_FALSE(terrain.agrees());
+  // ... and within half it agrees again: the map's heights are back.
+  terrain.checkUnderFeet(feetAt(2.5, top - 0.4 * limit), tolerance);
+  EXPECT_TRUE(terrain.agrees());
+  EXPECT_EQ(terrain.height(2.5, 0.0), stage->height(2.5, 0.0));
+  // A map that agrees is not compared with the feet again until it changes: a foot that lands
+  // off its foothold is the swing's error, not the map's.
+  terrain.checkUnderFeet(feetAt(2.5, top + 0.2), tolerance);
+  EXPECT_TRUE(terrain.agrees());
+  // A new map with the same ground under the feet (a scan elsewhere) agrees with the one before.
+  terrain.publish(labStage());
+  ASSERT_TRUE(terrain.refresh());
+  terrain.checkUnderFeet(feetAt(2.5, top + 0.2), tolerance);
+  EXPECT_TRUE(terrain.agrees());
+  EXPECT_NEAR(terrain.disagreement(), 0.0, 1e-12);
+  // A first map with a foot by the stage's edge, heel on the floor and toe over the first stage
+  // column, agrees: the nearest column within a cell is the floor.
+  double edge = 0.5;
+  while (stage->height(edge, 0.1) < 0.07) edge += 0.5 * cell;
+  MapTerrain byTheEdge(stage);
+  byTheEdge.checkUnderFeet(feetAt(edge + 0.5 * cell, 0.0), tolerance);
+  EXPECT_TRUE(byTheEdge.agrees()) << "edge at x = " << edge << ", error " << byTheEdge.disagreement();
+  // ... and one that has the floor a stage's height above the feet does not.
+  MapTerrain onTheStage(stage);
+  onTheStage.checkUnderFeet(feetAt(2.5, 0.0), tolerance);
+  EXPECT_FALSE(onTheStage.agrees());
+  // Tolerance 0: never checked.
+  onTheStage.checkUnderFeet(feetAt(2.5, 0.0), 0.0);
+  EXPECT_TRUE(onTheStage.agrees());
+  EXPECT_TRUE(std::isnan(onTheStage.disagreement()));
+}
+
 TEST(MapTerrain, SwapsFromAnotherThreadAreSeenWhole) {
   // The IO thread publishes flat maps at 1, 2, ..., n while the planner thread refreshes and
   // reads: every read is one of the maps, in order, and the last one is seen.
