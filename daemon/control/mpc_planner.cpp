@@ -20,7 +20,13 @@ MpcPlanner::MpcPlanner(const model::Model& model, const ControlSettings& setting
       sampler_(model, locomotion::contactFrameIds(model, settings.locomotion)),
       map_tolerance_(settings.map_tolerance) {
   command_.standingJoints = Eigen::VectorXd::Zero(model.nj());
+  // Built here for its checks (it throws on settings it cannot plan with), then let go: the
+  // planner thread builds its own at its first plan, so that the SQP's worker team is started
+  // from that thread and has its priority. Destroying a team started here, at normal priority,
+  // from the real-time planner thread waits for its workers to be scheduled to exit: 80 ms on
+  // a loaded host, and the first plan after standing up came too late (safety.max_plan_age).
   rebuild();
+  planner_.reset();
 }
 
 void MpcPlanner::rebuild() {
@@ -65,6 +71,8 @@ void MpcPlanner::setTerrain(std::shared_ptr<const terrain::HeightMap> terrain,
 void MpcPlanner::plan(const PlannerInput& input, PlannerOutput& output) {
   terrain_.refresh(input.map_scan);
   const bool walk = input.mode == Mode::kWalk;
+  const bool built = !planner_;
+  if (built) rebuild();
   if (input.restart || !walking_) {
     SettingsPtr next;
     {
@@ -76,7 +84,7 @@ void MpcPlanner::plan(const PlannerInput& input, PlannerOutput& output) {
       map_tolerance_ = next->map_tolerance;
       posture_.setNominal(*next);
       rebuild();
-    } else if (input.restart) {
+    } else if (input.restart && !built) {
       rebuild();
     }
   }
