@@ -117,4 +117,72 @@ std::string resolveTerrainMap(const std::string& map, const std::string& origin,
   throw std::runtime_error(where + "cannot read " + map + " (nor " + beside + ")");
 }
 
+float TerrainColumns::highest() const {
+  float h = kNone;
+  for (float top : tops) h = std::max(h, top);
+  return h;
+}
+
+bool castRayOnColumns(const TerrainColumns& c, double highest, const double o[3],
+                      const double d[3], double tMax, double& t) {
+  if (c.empty()) return false;
+  double tIn = 0.0, tOut = tMax;
+  // Nothing stands above the highest column top.
+  if (o[2] > highest) {
+    if (d[2] >= 0) return false;
+    tIn = (highest - o[2]) / d[2];
+  }
+  // Clip to the grid's footprint.
+  const double lo[2] = {c.x0, c.y0}, hi[2] = {c.x0 + c.nx * c.resolution, c.y0 + c.ny * c.resolution};
+  for (int a = 0; a < 2; ++a) {
+    if (d[a] == 0.0) {
+      if (o[a] < lo[a] || o[a] >= hi[a]) return false;
+      continue;
+    }
+    double t0 = (lo[a] - o[a]) / d[a], t1 = (hi[a] - o[a]) / d[a];
+    if (t0 > t1) std::swap(t0, t1);
+    tIn = std::max(tIn, t0);
+    tOut = std::min(tOut, t1);
+  }
+  if (tIn > tOut) return false;
+
+  // Walk the columns under the ray (Amanatides-Woo).
+  const double px = o[0] + tIn * d[0], py = o[1] + tIn * d[1];
+  int ix = std::clamp(static_cast<int>(std::floor((px - c.x0) / c.resolution)), 0, c.nx - 1);
+  int iy = std::clamp(static_cast<int>(std::floor((py - c.y0) / c.resolution)), 0, c.ny - 1);
+  const int stepX = d[0] > 0 ? 1 : -1, stepY = d[1] > 0 ? 1 : -1;
+  const double inf = std::numeric_limits<double>::infinity();
+  const double dtX = d[0] != 0.0 ? c.resolution / std::abs(d[0]) : inf;
+  const double dtY = d[1] != 0.0 ? c.resolution / std::abs(d[1]) : inf;
+  double nextX = d[0] != 0.0 ? (c.x0 + (ix + (stepX > 0 ? 1 : 0)) * c.resolution - o[0]) / d[0] : inf;
+  double nextY = d[1] != 0.0 ? (c.y0 + (iy + (stepY > 0 ? 1 : 0)) * c.resolution - o[1]) / d[1] : inf;
+  double tEnter = tIn;
+  for (;;) {
+    const double tExit = std::min({nextX, nextY, tOut});
+    const double h = c.top(ix, iy);
+    if (h != TerrainColumns::kNone) {
+      const double zEnter = o[2] + tEnter * d[2], zExit = o[2] + tExit * d[2];
+      if (zEnter <= h) {  // through the side (or starting inside)
+        t = tEnter;
+        return true;
+      }
+      if (zExit <= h) {  // through the top
+        t = (h - o[2]) / d[2];
+        return true;
+      }
+    }
+    if (tExit >= tOut) return false;
+    if (nextX < nextY) {
+      ix += stepX;
+      tEnter = nextX;
+      nextX += dtX;
+    } else {
+      iy += stepY;
+      tEnter = nextY;
+      nextY += dtY;
+    }
+    if (ix < 0 || ix >= c.nx || iy < 0 || iy >= c.ny) return false;
+  }
+}
+
 }  // namespace ballast::plugin

@@ -27,7 +27,16 @@ struct TerrainColumns {
 
   float top(int ix, int iy) const { return tops[static_cast<std::size_t>(ix + nx * iy)]; }
   bool empty() const { return nx == 0 || ny == 0; }
+  /// The highest top (kNone when there is no column).
+  float highest() const;
 };
+
+/// The first hit of origin + t·direction (direction a unit vector) on the columns, solid from
+/// their tops down, for t in [0, tMax]: t and true, else false. `highest`: c.highest(), kept by
+/// the caller (a ray above it meets nothing). Walks the columns under the ray (Amanatides-Woo),
+/// so a ray costs the columns it crosses, not the map's size; allocates nothing.
+bool castRayOnColumns(const TerrainColumns& c, double highest, const double origin[3],
+                      const double direction[3], double tMax, double& t);
 
 /// Reads the map, keeping what stands on the ground at floorHeight (see the header comment).
 /// Throws std::runtime_error naming the file and what is wrong (unreadable, not an OctoMap

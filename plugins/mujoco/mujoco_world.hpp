@@ -151,6 +151,7 @@ class MujocoWorld {
   BuiltModel built_;
   std::vector<ModelInput::ContactPoint> contactPoints_;
   plugin::TerrainColumns columns_;
+  double highestColumn_ = plugin::TerrainColumns::kNone;  // columns_.highest()
   bool floor_ = true;
   double floorHeight_ = 0.0;
   double timestep_ = 0.001;

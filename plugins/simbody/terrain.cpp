@@ -29,13 +29,13 @@ Terrain Terrain::fromHeights(double x0, double y0, double resolution, int nx, in
   Terrain t;
   t.floor_ = floor;
   t.floorHeight_ = floorHeight;
-  t.x0_ = x0;
-  t.y0_ = y0;
-  t.res_ = resolution;
-  t.nx_ = nx;
-  t.ny_ = ny;
-  t.tops_ = std::move(tops);
-  for (float h : t.tops_) t.maxColumnTop_ = std::max<double>(t.maxColumnTop_, h);
+  t.grid_.x0 = x0;
+  t.grid_.y0 = y0;
+  t.grid_.resolution = resolution;
+  t.grid_.nx = nx;
+  t.grid_.ny = ny;
+  t.grid_.tops = std::move(tops);
+  if (!t.grid_.empty()) t.maxColumnTop_ = t.grid_.highest();
   t.maxTop_ = std::max(t.maxColumnTop_, floor ? floorHeight : -SimTK::Infinity);
   return t;
 }
@@ -55,17 +55,17 @@ Terrain Terrain::fromOctomap(const std::string& path, bool floor, double floorHe
 
 double Terrain::heightAt(double x, double y) const {
   double h = floor_ ? floorHeight_ : -SimTK::Infinity;
-  const int ix = static_cast<int>(std::floor((x - x0_) / res_));
-  const int iy = static_cast<int>(std::floor((y - y0_) / res_));
-  if (ix >= 0 && ix < nx_ && iy >= 0 && iy < ny_) h = std::max<double>(h, top(ix, iy));
+  const int ix = static_cast<int>(std::floor((x - grid_.x0) / grid_.resolution));
+  const int iy = static_cast<int>(std::floor((y - grid_.y0) / grid_.resolution));
+  if (ix >= 0 && ix < grid_.nx && iy >= 0 && iy < grid_.ny) h = std::max<double>(h, top(ix, iy));
   return h;
 }
 
 double Terrain::columnDistance(const SimTK::Vec3& p, int ix, int iy, SimTK::Vec3& normal) const {
-  const double lx = x0_ + ix * res_, ly = y0_ + iy * res_, h = top(ix, iy);
+  const double lx = grid_.x0 + ix * grid_.resolution, ly = grid_.y0 + iy * grid_.resolution, h = top(ix, iy);
   // Vector from the closest point of the column to p.
-  const SimTK::Vec3 q(p[0] < lx ? p[0] - lx : (p[0] > lx + res_ ? p[0] - lx - res_ : 0.0),
-                      p[1] < ly ? p[1] - ly : (p[1] > ly + res_ ? p[1] - ly - res_ : 0.0),
+  const SimTK::Vec3 q(p[0] < lx ? p[0] - lx : (p[0] > lx + grid_.resolution ? p[0] - lx - grid_.resolution : 0.0),
+                      p[1] < ly ? p[1] - ly : (p[1] > ly + grid_.resolution ? p[1] - ly - grid_.resolution : 0.0),
                       p[2] > h ? p[2] - h : 0.0);
   const double d = q.norm();
   if (d == 0.0) {  // inside: out through the top (columns stand side by side)
@@ -85,11 +85,11 @@ bool Terrain::signedDistance(const SimTK::Vec3& p, double reach, double& distanc
     normal = SimTK::Vec3(0, 0, 1);
     found = true;
   }
-  if (nx_ > 0 && p[2] - reach < maxColumnTop_) {
-    const int ix0 = std::max(0, static_cast<int>(std::floor((p[0] - reach - x0_) / res_)));
-    const int ix1 = std::min(nx_ - 1, static_cast<int>(std::floor((p[0] + reach - x0_) / res_)));
-    const int iy0 = std::max(0, static_cast<int>(std::floor((p[1] - reach - y0_) / res_)));
-    const int iy1 = std::min(ny_ - 1, static_cast<int>(std::floor((p[1] + reach - y0_) / res_)));
+  if (grid_.nx > 0 && p[2] - reach < maxColumnTop_) {
+    const int ix0 = std::max(0, static_cast<int>(std::floor((p[0] - reach - grid_.x0) / grid_.resolution)));
+    const int ix1 = std::min(grid_.nx - 1, static_cast<int>(std::floor((p[0] + reach - grid_.x0) / grid_.resolution)));
+    const int iy0 = std::max(0, static_cast<int>(std::floor((p[1] - reach - grid_.y0) / grid_.resolution)));
+    const int iy1 = std::min(grid_.ny - 1, static_cast<int>(std::floor((p[1] + reach - grid_.y0) / grid_.resolution)));
     SimTK::Vec3 n;
     for (int iy = iy0; iy <= iy1; ++iy)
       for (int ix = ix0; ix <= ix1; ++ix) {
@@ -115,70 +115,10 @@ bool Terrain::castRay(const SimTK::Vec3& origin, const SimTK::Vec3& direction, d
     if (tf >= 0 && tf <= best) best = tf, hit = true;
   }
   double tc;
-  if (nx_ > 0 && castRayColumns(origin, direction, best, tc)) best = tc, hit = true;
+  if (plugin::castRayOnColumns(grid_, maxColumnTop_, &origin[0], &direction[0], best, tc))
+    best = tc, hit = true;
   t = best;
   return hit;
-}
-
-bool Terrain::castRayColumns(const SimTK::Vec3& o, const SimTK::Vec3& d, double tMax,
-                             double& t) const {
-  double tIn = 0.0, tOut = tMax;
-  // Nothing stands above the highest column top.
-  if (o[2] > maxColumnTop_) {
-    if (d[2] >= 0) return false;
-    tIn = (maxColumnTop_ - o[2]) / d[2];
-  }
-  // Clip to the grid's footprint.
-  const double lo[2] = {x0_, y0_}, hi[2] = {x0_ + nx_ * res_, y0_ + ny_ * res_};
-  for (int a = 0; a < 2; ++a) {
-    if (d[a] == 0.0) {
-      if (o[a] < lo[a] || o[a] >= hi[a]) return false;
-      continue;
-    }
-    double t0 = (lo[a] - o[a]) / d[a], t1 = (hi[a] - o[a]) / d[a];
-    if (t0 > t1) std::swap(t0, t1);
-    tIn = std::max(tIn, t0);
-    tOut = std::min(tOut, t1);
-  }
-  if (tIn > tOut) return false;
-
-  // Walk the columns under the ray (Amanatides-Woo).
-  const double px = o[0] + tIn * d[0], py = o[1] + tIn * d[1];
-  int ix = std::clamp(static_cast<int>(std::floor((px - x0_) / res_)), 0, nx_ - 1);
-  int iy = std::clamp(static_cast<int>(std::floor((py - y0_) / res_)), 0, ny_ - 1);
-  const int stepX = d[0] > 0 ? 1 : -1, stepY = d[1] > 0 ? 1 : -1;
-  const double inf = SimTK::Infinity;
-  const double dtX = d[0] != 0.0 ? res_ / std::abs(d[0]) : inf;
-  const double dtY = d[1] != 0.0 ? res_ / std::abs(d[1]) : inf;
-  double nextX = d[0] != 0.0 ? (x0_ + (ix + (stepX > 0 ? 1 : 0)) * res_ - o[0]) / d[0] : inf;
-  double nextY = d[1] != 0.0 ? (y0_ + (iy + (stepY > 0 ? 1 : 0)) * res_ - o[1]) / d[1] : inf;
-  double tEnter = tIn;
-  for (;;) {
-    const double tExit = std::min({nextX, nextY, tOut});
-    const double h = top(ix, iy);
-    if (h != kNoColumn) {
-      const double zEnter = o[2] + tEnter * d[2], zExit = o[2] + tExit * d[2];
-      if (zEnter <= h) {  // through the side (or starting inside)
-        t = tEnter;
-        return true;
-      }
-      if (zExit <= h) {  // through the top
-        t = (h - o[2]) / d[2];
-        return true;
-      }
-    }
-    if (tExit >= tOut) return false;
-    if (nextX < nextY) {
-      ix += stepX;
-      tEnter = nextX;
-      nextX += dtX;
-    } else {
-      iy += stepY;
-      tEnter = nextY;
-      nextY += dtY;
-    }
-    if (ix < 0 || ix >= nx_ || iy < 0 || iy >= ny_) return false;
-  }
 }
 
 }  // namespace ballast::simbody

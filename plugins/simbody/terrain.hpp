@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "terrain_columns.hpp"  // plugins/common
+
 namespace ballast::simbody {
 
 class Terrain {
@@ -42,21 +44,18 @@ class Terrain {
   double heightAt(double x, double y) const;
   /// Highest point of the terrain (−infinity if empty).
   double maxHeight() const { return maxTop_; }
-  double resolution() const { return res_; }
+  double resolution() const { return grid_.resolution; }
   bool hasFloor() const { return floor_; }
-  int columns() const { return nx_ * ny_; }
+  int columns() const { return grid_.nx * grid_.ny; }
 
  private:
-  float top(int ix, int iy) const { return tops_[static_cast<std::size_t>(ix + nx_ * iy)]; }
+  float top(int ix, int iy) const { return grid_.top(ix, iy); }
   /// Distance from p to column (ix, iy) (negative inside, measured to its top).
   double columnDistance(const SimTK::Vec3& p, int ix, int iy, SimTK::Vec3& normal) const;
-  bool castRayColumns(const SimTK::Vec3& o, const SimTK::Vec3& d, double tMax, double& t) const;
 
   bool floor_ = true;
   double floorHeight_ = 0.0;
-  double x0_ = 0.0, y0_ = 0.0, res_ = 1.0;
-  int nx_ = 0, ny_ = 0;
-  std::vector<float> tops_;
+  plugin::TerrainColumns grid_;
   double maxTop_ = -SimTK::Infinity;
   double maxColumnTop_ = -SimTK::Infinity;
 };
