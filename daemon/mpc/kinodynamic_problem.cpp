@@ -190,8 +190,8 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
     barrier(s.maxNormalForce - f.z(), -Eigen::Vector3d::UnitZ());
   }
   // Joint position and velocity limits: each a scalar bound on one entry.
-  auto bound = [&](double h, double sign, int index, bool onState) {
-    const RelaxedBarrier& b = s.limitBarrier;
+  auto bound = [&](double h, double sign, int index, bool onState,
+                   const RelaxedBarrier& b) {
     cost += dt * b.value(h);
     if (!node) return;
     (onState ? node->q[index] : node->r[index]) += dt * b.firstDerivative(h) * sign;
@@ -201,12 +201,16 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
     const double qj = x[L.kJoints + j];
     const double lo = model_.lowerPositionLimit[j] + s.jointLimitMargin;
     const double hi = model_.upperPositionLimit[j] - s.jointLimitMargin;
-    if (std::isfinite(lo)) bound(qj - lo, 1.0, L.kJoints + j, true);
-    if (std::isfinite(hi)) bound(hi - qj, -1.0, L.kJoints + j, true);
+    if (std::isfinite(lo)) bound(qj - lo, 1.0, L.kJoints + j, true, s.limitBarrier);
+    if (std::isfinite(hi)) bound(hi - qj, -1.0, L.kJoints + j, true, s.limitBarrier);
+    if (s.jointStop.weight > 0.0) {
+      if (std::isfinite(lo)) bound(qj - lo, 1.0, L.kJoints + j, true, s.jointStop);
+      if (std::isfinite(hi)) bound(hi - qj, -1.0, L.kJoints + j, true, s.jointStop);
+    }
     const double vj = u[L.jointVelocity() + j];
     const double vmax = model_.velocityLimit[j];
-    bound(vmax - vj, -1.0, L.jointVelocity() + j, false);
-    bound(vj + vmax, 1.0, L.jointVelocity() + j, false);
+    bound(vmax - vj, -1.0, L.jointVelocity() + j, false, s.limitBarrier);
+    bound(vj + vmax, 1.0, L.jointVelocity() + j, false, s.limitBarrier);
   }
   // Feet distance (eq. collsion): toe–toe and heel–heel.
   for (int pair = 0; pair < 2; ++pair) {

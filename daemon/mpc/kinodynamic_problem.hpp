@@ -14,7 +14,12 @@
 //   axis along which d is largest (the rows stay independent, the Jacobian exact).
 // Inequalities, as relaxed-barrier costs (eq. rbf): friction cone μ f_z ≥ sqrt(f_x² + f_y² + ε²)
 // and f_min ≤ f_z ≤ f_max on stance points, joint position and velocity limits, and the feet
-// distance ‖p_left − p_right‖² ≥ d_min² for toe–toe and heel–heel (eq. collsion).
+// distance ‖p_left − p_right‖² ≥ d_min² for toe–toe and heel–heel (eq. collsion). The joint
+// position limits have a second, stiff barrier that acts only near them (jointStop, zero farther
+// than its reach): the paper's weight (0.1) is a slope of 5 per rad at δ, against tracking costs
+// of hundreds, and plans for a sideways push rolled the pelvis 0.4 rad, through both hip roll
+// limits (the swing leg then stopped by its joint, the robot fell); the log barrier made stiff
+// everywhere would pull every joint towards the middle of its range (ξ/h) and walk differently.
 // Cost: ½‖x − x_ref‖²_Q + ½‖u − u_ref‖²_R + barriers (Gauss-Newton Hessians), the yaw error
 // wrapped to (−π, π].
 //
@@ -57,6 +62,7 @@ struct ProblemSettings {
   double swingPositionGain;          ///< k_p of the swing velocity condition, 1/s
   RelaxedBarrier frictionBarrier;    ///< on force terms (N)
   RelaxedBarrier limitBarrier;       ///< on joint limits (rad, rad/s)
+  RelaxedBarrier jointStop{10.0, 0.02, 0.15};  ///< on joint position limits, near them only (rad)
   RelaxedBarrier collisionBarrier{0.1, 0.005};  ///< on squared distance (m²)
 };
 

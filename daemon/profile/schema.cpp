@@ -41,6 +41,12 @@ void toBarrier(mpc::RelaxedBarrier& b, const Value& v) {
   b.delta = v.numbers[1];
 }
 
+/// [weight, delta, reach] -> a relaxed barrier acting only within reach of its bound.
+void toReachingBarrier(mpc::RelaxedBarrier& b, const Value& v) {
+  toBarrier(b, v);
+  b.reach = v.numbers[2];
+}
+
 /// [ahead, behind] -> the step limits' reach along the heading.
 void toStepLength(gait::StepLimits& l, const Value& v) {
   l.maxForward = v.numbers[0];
@@ -160,6 +166,7 @@ const Schema<Settings> kTable({
   number("planner.terminal_weight_scale", "5", 0, 1e6, "", "Q at the last node = this times Q").into<&S::control, &C::locomotion, &L::problem, &P::terminalWeightScale>(),
   numbers("planner.friction_barrier", "[0.1, 5]", 1e-9, 1e6, "", "relaxed log barrier of the friction cone and normal force bounds, [weight (paper: xi), delta in N]").ofLength(2).into<&S::control, &C::locomotion, &L::problem, &P::frictionBarrier>(&toBarrier),
   numbers("planner.limit_barrier", "[0.1, 0.02]", 1e-9, 1e6, "", "relaxed log barrier of the joint position and velocity limits, [weight, delta in rad or rad/s]").ofLength(2).into<&S::control, &C::locomotion, &L::problem, &P::limitBarrier>(&toBarrier),
+  numbers("planner.joint_limit_stop", "[10, 0.02, 0.15]", 0, 1e6, "", "relaxed log barrier on the joint position limits (within planner.joint_limit_margin) that acts only within reach of them and is zero, with zero slope, farther away: [weight, delta in rad, reach in rad]; 0 weight: none").ofLength(3).into<&S::control, &C::locomotion, &L::problem, &P::jointStop>(&toReachingBarrier),
   number("planner.friction_coefficient", "0.6", 0.05, 2, "", "friction cone coefficient").into<&S::control, &C::locomotion, &L::problem, &P::frictionCoefficient>(),
   number("planner.min_normal_force", "0", 0, 1e4, "N", "lower bound of a stance contact's normal force").into<&S::control, &C::locomotion, &L::problem, &P::minNormalForce>(),
   number("planner.max_normal_force", "1000", 1, 1e5, "N", "upper bound of a contact's normal force").into<&S::control, &C::locomotion, &L::problem, &P::maxNormalForce>(),

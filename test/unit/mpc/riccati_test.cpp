@@ -32,6 +32,34 @@ TEST(RelaxedBarrier, IsTheLogBarrierAboveDeltaAndC2AcrossIt) {
   EXPECT_GT(b.value(-1.0), b.value(0.0));  // keeps pushing back toward feasibility
 }
 
+TEST(RelaxedBarrier, WithAReachIsZeroBeyondItAndTheShiftedLogWithin) {
+  RelaxedBarrier b{2.0, 0.02};
+  b.reach = 0.1;
+  // Beyond the reach: no cost, no slope, no curvature.
+  for (double h : {0.1, 0.2, 3.0}) {
+    EXPECT_EQ(b.value(h), 0.0) << h;
+    EXPECT_EQ(b.firstDerivative(h), 0.0) << h;
+    EXPECT_EQ(b.secondDerivative(h), 0.0) << h;
+  }
+  // Within it, by hand: -2 ln h + 2 ln 0.1 + (-2/0.1)(h - 0.1)·(-1) = 2 ln(0.1/h) - 20 (0.1 - h).
+  EXPECT_NEAR(b.value(0.05), 2.0 * std::log(2.0) - 1.0, 1e-12);          // 0.386294...
+  EXPECT_NEAR(b.firstDerivative(0.05), -2.0 / 0.05 + 2.0 / 0.1, 1e-12);  // -20
+  EXPECT_NEAR(b.secondDerivative(0.05), 2.0 / (0.05 * 0.05), 1e-9);      // 800
+  // Below δ the quadratic continuation, shifted alike: slope 2 (h - 0.04)/0.0004 + 20.
+  EXPECT_NEAR(b.firstDerivative(0.0), -200.0 + 20.0, 1e-9);
+  EXPECT_NEAR(b.secondDerivative(0.0), 2.0 / (0.02 * 0.02), 1e-9);
+  // Value and slope continuous at the reach; the slope is that of the finite differences.
+  const double eps = 1e-9;
+  EXPECT_NEAR(b.value(0.1 - eps), 0.0, 1e-12);
+  EXPECT_NEAR(b.firstDerivative(0.1 - eps), 0.0, 1e-6);
+  for (double h : {-0.5, 0.01, 0.03, 0.07, 0.099}) {
+    const double s = 1e-6;
+    EXPECT_NEAR((b.value(h + s) - b.value(h - s)) / (2 * s), b.firstDerivative(h), 1e-4) << h;
+  }
+  // Convex and non-negative: the plain barrier minus its tangent at the reach.
+  for (double h : {-1.0, 0.0, 0.05, 0.09}) EXPECT_GT(b.value(h), 0.0) << h;
+}
+
 TEST(RiccatiSolver, MatchesTheKktSolutionWithEqualities) {
   std::mt19937 rng(3);
   const int N = 12, nx = 6, nu = 5, maxEq = 3;
