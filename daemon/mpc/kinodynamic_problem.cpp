@@ -18,6 +18,8 @@ NodeWorkspace::NodeWorkspace(const KinodynamicProblem& problem)
       dPosition_du(kNumContacts, model::Mat3X<double>(3, problem.nu())),
       rowDx(3, problem.nx()),
       rowDu(3, problem.nu()),
+      pointDx{model::Mat3X<double>(3, problem.nx()), model::Mat3X<double>(3, problem.nx())},
+      pointDu{model::Mat3X<double>(3, problem.nu()), model::Mat3X<double>(3, problem.nu())},
       gradX(problem.nx()),
       gradU(problem.nu()) {}
 
@@ -120,11 +122,18 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
     // already fixes. A constant selection keeps the Jacobian exact.
     Eigen::Index dropped;
     (ws.contacts[toe].position - ws.contacts[heel].position).cwiseAbs().maxCoeff(&dropped);
+    // A swinging foot whose yaw the legs cannot turn: its middle and its pitch (see the header).
+    const bool combined = s.feetFollowBaseYaw && !ref.stance[toe] && !ref.stance[heel];
+    // Both feet standing: the second foot's yaw is the first's (both are the base's), so its
+    // heel's sideways row is left out.
+    const bool sameYaw = s.feetFollowBaseYaw && foot == 1 && ref.stance[0] && ref.stance[1] &&
+                         ref.stance[2] && ref.stance[3] && dropped != 2;
     for (int c : {toe, heel}) {
       const model::FrameKinematicsZyx& k = ws.contacts[c];
-      Eigen::Vector3d residual = k.velocity;
-      model::Mat3X<double>& dx = ws.rowDx;
-      model::Mat3X<double>& du = ws.rowDu;
+      Eigen::Vector3d& residual = combined ? ws.pointResidual[c - toe] : ws.rowResidual;
+      residual = k.velocity;
+      model::Mat3X<double>& dx = combined ? ws.pointDx[c - toe] : ws.rowDx;
+      model::Mat3X<double>& du = combined ? ws.pointDu[c - toe] : ws.rowDu;
       if (node) {
         dx = k.dVelocity_dx;
         du = k.dVelocity_du;
@@ -136,10 +145,28 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
           du += s.swingPositionGain * ws.dPosition_du[c];
         }
       }
+      if (combined) continue;
       if (c == toe)
         putRows({0, 1, 2}, residual, dx, du);
+      else if (sameYaw)
+        putRows({2}, residual, dx, du);
       else
         putRows({(dropped + 1) % 3, (dropped + 2) % 3}, residual, dx, du);
+    }
+    if (combined) {
+      // Middle: the mean of the two conditions; pitch: their difference along the vertical.
+      ws.rowResidual = 0.5 * (ws.pointResidual[0] + ws.pointResidual[1]);
+      if (node) {
+        ws.rowDx = 0.5 * (ws.pointDx[0] + ws.pointDx[1]);
+        ws.rowDu = 0.5 * (ws.pointDu[0] + ws.pointDu[1]);
+      }
+      putRows({0, 1, 2}, ws.rowResidual, ws.rowDx, ws.rowDu);
+      ws.rowResidual = ws.pointResidual[0] - ws.pointResidual[1];
+      if (node) {
+        ws.rowDx = ws.pointDx[0] - ws.pointDx[1];
+        ws.rowDu = ws.pointDu[0] - ws.pointDu[1];
+      }
+      putRows({2}, ws.rowResidual, ws.rowDx, ws.rowDu);
     }
   }
   for (int c = 0; c < kNumContacts; ++c) {

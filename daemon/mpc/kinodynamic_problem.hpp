@@ -12,6 +12,13 @@
 //   Toe and heel of one foot are one rigid body: (v_toe − v_heel)·d = 0 always holds along the
 //   toe-heel direction d, so the heel's condition keeps only two components: it drops the world
 //   axis along which d is largest (the rows stay independent, the Jacobian exact).
+//   Feet that cannot yaw relative to the base (ProblemSettings::feetFollowBaseYaw: no hip yaw,
+//   or both locked) have the base's yaw, which the legs reach only through the pitch axes the hip
+//   roll tilts. Rows asking for it were nearly dependent (sines 1e-3..1e-2, above the projection's
+//   cut) and met with joint velocities of 10-900 rad/s: the robot fell within 1 s of walking.
+//   There a swinging foot's conditions are its middle (the mean of toe and heel, 3 rows) and its
+//   pitch (their difference along z, 1 row), and with both feet standing the second heel keeps
+//   only its vertical row: the first foot holds the yaw.
 // Inequalities, as relaxed-barrier costs (eq. rbf): friction cone μ f_z ≥ sqrt(f_x² + f_y² + ε²)
 // and f_min ≤ f_z ≤ f_max on stance points, joint position and velocity limits, and the feet
 // distance ‖p_left − p_right‖² ≥ d_min² for toe–toe and heel–heel (eq. collsion). The joint
@@ -60,6 +67,11 @@ struct ProblemSettings {
   double minFeetDistance;            ///< m
   double jointLimitMargin;           ///< rad kept from each URDF limit
   double swingPositionGain;          ///< k_p of the swing velocity condition, 1/s
+  /// No leg turns its foot about the vertical relative to the base (no hip yaw, or locked): a
+  /// foot's yaw is then the base's, which a standing foot holds: a swinging foot's conditions
+  /// are its middle and its pitch, and a second standing foot leaves its yaw to the first (see
+  /// the header).
+  bool feetFollowBaseYaw = false;
   RelaxedBarrier frictionBarrier;    ///< on force terms (N)
   RelaxedBarrier limitBarrier;       ///< on joint limits (rad, rad/s)
   RelaxedBarrier jointStop{10.0, 0.02, 0.15};  ///< on joint position limits, near them only (rad)
@@ -78,6 +90,11 @@ struct NodeWorkspace : ProblemWorkspace {
   std::vector<model::FrameKinematicsZyx> contacts;  ///< at x_mid; du including x_mid's path
   std::vector<model::Mat3X<double>> dPosition_du;   ///< contact positions through x_mid
   model::Mat3X<double> rowDx, rowDu;                ///< scratch: one point's equality rows
+  /// Scratch: a swinging foot's toe and heel conditions, combined into the foot's rows when
+  /// its yaw is not the legs' to choose (ProblemSettings::feetFollowBaseYaw).
+  std::array<model::Mat3X<double>, 2> pointDx, pointDu;
+  std::array<Eigen::Vector3d, 2> pointResidual;
+  Eigen::Vector3d rowResidual;
   Eigen::VectorXd gradX, gradU;                     ///< scratch: a barrier's gradient
 };
 

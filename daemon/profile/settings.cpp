@@ -297,6 +297,8 @@ Settings settingsFor(const Profile& p, const model::Model& model) {
       c.nominal_q[j] = 0.5 * (model.lowerPositionLimit[j] + model.upperPositionLimit[j]);
 
   c.feet_cannot_yaw = feetCannotYaw(model, c);
+  c.locomotion.problem.feetFollowBaseYaw = !c.feet_cannot_yaw.empty();
+  c.wbc.feetFollowBaseYaw = !c.feet_cannot_yaw.empty();
 
   // Gains per group.
   perJoint(s, s.joints.kp, groupOf, c.kp, problems);

@@ -44,6 +44,12 @@ struct WbcSettings {
   /// A swinging foot (both its contact points in swing) is held level about the line through
   /// its points, with swingKp and swingKd: the points' paths leave that roll free.
   bool levelSwingFeet = true;
+  /// No leg turns its foot about the vertical relative to the base (no hip yaw, or locked; the
+  /// profile finds it from the URDF): a foot's yaw is then the base's, and the base's is the
+  /// stance foot's. Standing on both feet, the second foot's yaw is left to the first; a
+  /// swinging foot tracks the middle of its contact points and its pitch (the toe's height over
+  /// the heel's) instead of each point; the base task has no yaw row (whole_body_controller.hpp).
+  bool feetFollowBaseYaw = false;
   double jointKp;  ///< 1/s², joint-space joints
   double jointKd;  ///< 1/s
   // Priority 3: base motion tracking, [position (world x, y, z); orientation (world axes)].

@@ -1,6 +1,7 @@
 #include "wbc/whole_body_controller.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -25,6 +26,7 @@ const char* toString(WbcStatus status) {
 
 namespace {
 constexpr int kFrictionRows = 5;  // rows of C_lc per contact point
+constexpr int kMaxFeet = 4;       // feet (pairs of points on one body) a swing can combine
 
 /// What the controller keeps of its settings: the numbers and the contact frames (which never
 /// change under it); the base frame, joint-space joints and torque limits live resolved in its
@@ -94,6 +96,7 @@ WholeBodyController::WholeBodyController(const model::Model& model, const WbcSet
   for (const auto& name : settings.contactFrames) contactFrames_.push_back(model.frameId(name));
   footPairs_ = sameBodyPairs(model, settings);
   Jframe_.setZero(6, nv_);
+  pointRows_.setZero(6, nv_);
   jointSpaceJoints_.reserve(nj_);
   torqueLimit_.resize(nj_);
   resolve(settings);
@@ -117,6 +120,7 @@ void WholeBodyController::resolve(const WbcSettings& s) {
   settings_.swingKp = s.swingKp;
   settings_.swingKd = s.swingKd;
   settings_.levelSwingFeet = s.levelSwingFeet;
+  settings_.feetFollowBaseYaw = s.feetFollowBaseYaw;
   settings_.jointKp = s.jointKp;
   settings_.jointKd = s.jointKd;
   settings_.baseKp = s.baseKp;
@@ -228,16 +232,38 @@ void WholeBodyController::buildTasks(const WbcState& state, const WbcReference& 
   // 0: physics.
   tasks_.beginLevel();
   {
-    auto rows = tasks_.addEqualities(6 + nF);
+    // Feet that cannot yaw, all standing: every foot after the first keeps of its second point
+    // only the row along the sole's normal (the toe's three, the roll row below and rigidity fix
+    // the rest but the yaw, which the first foot holds through the base). Its yaw row would be
+    // nearly dependent, at a sine that the weight shift's hip roll raises to 1e-3.
+    int sameYaw = -1;  // the contact point whose rows are cut to one, if any
+    if (settings_.feetFollowBaseYaw && footPairs_.size() >= 2) {
+      bool allStance = true;
+      for (int i = 0; i < nc_; ++i) allStance = allStance && ref.stance[i];
+      if (allStance) sameYaw = footPairs_[1].second;
+    }
+    auto rows = tasks_.addEqualities(6 + nF - (sameYaw >= 0 ? 2 : 0));
     rows.A.topLeftCorner(6, nv_) = M.topRows(6);
     rows.A.topRightCorner(6, nF) = -Jc_.leftCols(6).transpose();
     rows.b.head(6) = -n.head(6);
+    int row = 6;
     for (int i = 0; i < nc_; ++i) {
-      if (ref.stance[i]) {
-        rows.A.block(6 + 3 * i, 0, 3, nv_) = Jc_.middleRows(3 * i, 3);
-        rows.b.segment<3>(6 + 3 * i) = -contactBias_.segment<3>(3 * i);
+      if (i == sameYaw) {
+        const auto& [toe, heel] = footPairs_[1];
+        const Eigen::Vector3d line = contactPosition_.col(toe) - contactPosition_.col(heel);
+        const Eigen::Vector3d lateral = Eigen::Vector3d::UnitZ().cross(line);
+        Eigen::Vector3d normal = line.cross(lateral);
+        normal = normal.norm() > 1e-9 ? Eigen::Vector3d(normal / normal.norm()) : Eigen::Vector3d::UnitZ();
+        rows.A.block(row, 0, 1, nv_).noalias() = normal.transpose() * Jc_.middleRows(3 * i, 3);
+        rows.b[row] = -normal.dot(contactBias_.segment<3>(3 * i));
+        row += 1;
+      } else if (ref.stance[i]) {
+        rows.A.block(row, 0, 3, nv_) = Jc_.middleRows(3 * i, 3);
+        rows.b.segment<3>(row) = -contactBias_.segment<3>(3 * i);
+        row += 3;
       } else {
-        rows.A.block<3, 3>(6 + 3 * i, nv_ + 3 * i).setIdentity();
+        rows.A.block<3, 3>(row, nv_ + 3 * i).setIdentity();
+        row += 3;
       }
     }
     // A foot standing on both its points does not roll about the line through them: real feet
@@ -286,17 +312,40 @@ void WholeBodyController::buildTasks(const WbcState& state, const WbcReference& 
     int swingFeet = 0;
     for (const auto& [i, k] : footPairs_)
       swingFeet += settings_.levelSwingFeet && !ref.stance[i] && !ref.stance[k];
+    // A swinging foot whose yaw is the base's: its middle and pitch, 4 rows for its 6.
+    std::array<bool, 2 * kMaxFeet> combined{};
+    int combinedFeet = 0;
+    for (const auto& [i, k] : footPairs_)
+      if (settings_.feetFollowBaseYaw && !ref.stance[i] && !ref.stance[k] && i < 2 * kMaxFeet &&
+          k < 2 * kMaxFeet) {
+        combined[i] = combined[k] = true;
+        ++combinedFeet;
+      }
     const int nJoint = static_cast<int>(jointSpaceJoints_.size());
-    auto rows = tasks_.addEqualities(3 * swingCount + swingFeet + nJoint);
+    auto rows = tasks_.addEqualities(3 * swingCount - 2 * combinedFeet + swingFeet + nJoint);
     int row = 0;
+    auto target = [&](int i) -> Eigen::Vector3d {
+      return ref.contactAcceleration.col(i) +
+             settings_.swingKp * (ref.contactPosition.col(i) - contactPosition_.col(i)) +
+             settings_.swingKd * (ref.contactVelocity.col(i) - contactVelocity_.col(i)) -
+             contactBias_.segment<3>(3 * i);
+    };
     for (int i = 0; i < nc_; ++i) {
-      if (ref.stance[i]) continue;
+      if (ref.stance[i] || (i < 2 * kMaxFeet && combined[i])) continue;
       rows.A.block(row, 0, 3, nv_) = Jc_.middleRows(3 * i, 3);
-      rows.b.segment<3>(row) = ref.contactAcceleration.col(i) +
-                               settings_.swingKp * (ref.contactPosition.col(i) - contactPosition_.col(i)) +
-                               settings_.swingKd * (ref.contactVelocity.col(i) - contactVelocity_.col(i)) -
-                               contactBias_.segment<3>(3 * i);
+      rows.b.segment<3>(row) = target(i);
       row += 3;
+    }
+    for (const auto& [i, k] : footPairs_) {
+      if (i >= 2 * kMaxFeet || !combined[i]) continue;
+      pointRows_.topRows<3>() = Jc_.middleRows(3 * i, 3);
+      pointRows_.bottomRows<3>() = Jc_.middleRows(3 * k, 3);
+      pointTargets_ << target(i), target(k);
+      rows.A.block(row, 0, 3, nv_) = 0.5 * (pointRows_.topRows<3>() + pointRows_.bottomRows<3>());
+      rows.b.segment<3>(row) = 0.5 * (pointTargets_.head<3>() + pointTargets_.tail<3>());
+      rows.A.block(row + 3, 0, 1, nv_) = pointRows_.row(2) - pointRows_.row(5);
+      rows.b[row + 3] = pointTargets_[2] - pointTargets_[5];
+      row += 4;
     }
     // A swinging foot's roll about the line through its two points, which those points' paths
     // leave free: held level (its sideways axis horizontal), so that the foot lands flat. Left
@@ -338,8 +387,9 @@ void WholeBodyController::buildTasks(const WbcState& state, const WbcReference& 
   // 3: base pose and twist.
   tasks_.beginLevel();
   {
-    auto rows = tasks_.addEqualities(6);
-    rows.A.leftCols(nv_) = Jb_;
+    // Without the yaw row when the feet cannot yaw (the header): it is the last one.
+    auto rows = tasks_.addEqualities(settings_.feetFollowBaseYaw ? 5 : 6);
+    rows.A.leftCols(nv_) = Jb_.topRows(settings_.feetFollowBaseYaw ? 5 : 6);
     const Eigen::Matrix3d Rerr = ref.baseOrientation.normalized().toRotationMatrix() *
                                  baseRotation_.transpose();
     const Eigen::AngleAxisd aa(Rerr);
@@ -350,6 +400,7 @@ void WholeBodyController::buildTasks(const WbcState& state, const WbcReference& 
     for (int a = 0; a < 3; ++a) {
       rows.b[a] = ref.baseLinearAcceleration[a] + kp[a] * positionError[a] +
                   kd[a] * (ref.baseLinearVelocity[a] - baseVelocity_[a]) - baseBias_[a];
+      if (3 + a >= rows.b.size()) break;
       rows.b[3 + a] = ref.baseAngularAcceleration[a] + kp[3 + a] * orientationError[a] +
                       kd[3 + a] * (ref.baseAngularVelocity[a] - baseVelocity_[3 + a]) -
                       baseBias_[3 + a];

@@ -16,6 +16,16 @@
 //   3 [3]  base motion: J_b v̇ = a*_b + Kp (q*_b ⊟ q_b) + Kd (v*_b − v_b) − J̇_b v, world-aligned
 //          [linear; angular], the orientation error as the rotation vector log(R* Rᵀ)
 //   4 [4]  contact forces: F_c = F_c*
+// On a robot whose feet cannot yaw relative to the base (WbcSettings::feetFollowBaseYaw: no hip
+// yaw, or both locked) every foot's yaw is the base's, and the legs reach it only through the
+// pitch axes the hip roll tilts (the sine of a few hundredths). Rows that ask for it are nearly
+// dependent on the rows above them, above the hierarchical QP's thresholds, and were met with
+// accelerations of their disagreement over that sine: the weight shift before the first step
+// already stood the legs up and pitched the base (level 0 rank 18 where the robot has 17).
+// So there: at level 0 with all points standing, the second foot's second point keeps only its
+// row along the sole's normal (the first foot holds the yaw); at level 2 a swinging foot's two
+// points become its middle (3 rows) and its pitch (toe height − heel height, 1 row); level 3
+// has no yaw row.
 // Priority 1 is split in two levels so the physics equalities are never traded for slack when
 // the limits cannot be met (with feasible limits the answer is the same as one level).
 // The weighted variant (cNH) keeps levels 0 and 1 and solves levels 2–4 as one least-squares
@@ -118,6 +128,8 @@ class WholeBodyController {
   Eigen::Vector3d basePosition_;
   Eigen::Matrix3d baseRotation_;
 
+  Eigen::Matrix<double, 6, Eigen::Dynamic> pointRows_;  // scratch: a swinging foot's two points' rows
+  Eigen::Matrix<double, 6, 1> pointTargets_;
   TaskStack tasks_;     // hierarchical layout, always built
   TaskStack weighted_;  // the weighted variant's stack
   HierarchicalQp hqp_;

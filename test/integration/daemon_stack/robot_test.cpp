@@ -103,9 +103,56 @@ INSTANTIATE_TEST_SUITE_P(
       return name;
     });
 
+/// The robots whose feet cannot yaw relative to the pelvis (legs of 5 joints, and the humanoid
+/// with both hip yaws locked) walk straight ahead and sideways: walking needs no turn of the feet.
+/// Every foot's yaw is then the base's, which a standing foot holds; the planner's contact
+/// conditions and the whole-body controller's rows leave it out (before, they asked the legs for
+/// it through the small leverage of the hip roll: plans of 10-900 rad/s, the weight shift stood
+/// the legs up, and the robot fell within 1 s of the walk command).
+struct Walk {
+  const char* profile;
+  double vx, vy;  ///< m/s, commanded
+};
+
+class RobotVariantWalk : public ::testing::TestWithParam<Walk> {};
+
+TEST_P(RobotVariantWalk, WalksAtTheCommandedVelocity) {
+  const Walk w = GetParam();
+  DaemonStack robot(std::string(TEST_PROFILE_DIR) + "/" + w.profile + ".yaml");
+  ASSERT_TRUE(robot.waitForMode(control::Mode::kStand, 5.0));
+  ASSERT_TRUE(robot.run(0.5));
+  ASSERT_EQ(robot.walk(w.vx, w.vy, 0.0, 7.0), control::Refusal::kNone);
+  ASSERT_TRUE(robot.run(3.0)) << control::modeName(robot.status().mode) << " at t " << robot.t();
+  const control::LoopStatus from = robot.status();
+  ASSERT_TRUE(robot.run(4.0)) << control::modeName(robot.status().mode) << " at t " << robot.t();
+  const control::LoopStatus to = robot.status();
+  // The mean velocity over the last 4 s, in the heading the robot started with (yaw ~ 0).
+  const double vx = (to.truth.position[0] - from.truth.position[0]) / 4.0;
+  const double vy = (to.truth.position[1] - from.truth.position[1]) / 4.0;
+  std::printf("%s: commanded (%.2f, %.2f) m/s, walked (%.3f, %.3f) m/s, yaw %.3f rad\n", w.profile,
+              w.vx, w.vy, vx, vy, to.truth.rpy[2]);
+  EXPECT_NEAR(vx, w.vx, 0.1);
+  EXPECT_NEAR(vy, w.vy, 0.1);
+  EXPECT_LT(std::abs(to.truth.rpy[2]), 0.2);  // it went straight: its feet cannot turn back
+  EXPECT_TRUE(robot.run(2.0)) << "stopping";  // the command lapses at 7 s: it stops on its feet
+  EXPECT_EQ(robot.status().mode, control::Mode::kStand);
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Robots, RobotVariantWalk,
+    ::testing::Values(Walk{"legs-of-5", 0.4, 0.0}, Walk{"legs-of-5-mujoco", 0.4, 0.0},
+                      Walk{"legs-of-5", 0.0, 0.2}, Walk{"legs-of-5-mujoco", 0.0, 0.2},
+                      Walk{"hip-yaws-locked", 0.4, 0.0}, Walk{"hip-yaws-locked-mujoco", 0.4, 0.0}),
+    [](const ::testing::TestParamInfo<Walk>& info) {
+      std::string name = info.param.profile;
+      for (char& c : name)
+        if (c == '-') c = '_';
+      return name + (info.param.vy != 0.0 ? "_sideways" : "_forward");
+    });
+
 /// The robot whose legs have no hip yaw cannot turn (its feet stay parallel to the pelvis: a yaw
 /// rate could only be walked as a straight line): walk with a yaw rate and pose with a yaw are
-/// refused with the reason, and it keeps standing. (It does not walk yet: see issue 16's notes.)
+/// refused with the reason, and it keeps standing. (It walks straight: RobotVariantWalk.)
 TEST(LegsOf5, RefusesToTurnAndSaysWhy) {
   DaemonStack robot(std::string(TEST_PROFILE_DIR) + "/legs-of-5.yaml");
   EXPECT_FALSE(robot.settings().feet_cannot_yaw.empty());
