@@ -13,8 +13,9 @@
 // foot's centre (the midpoint of toe and heel), so the swings of its two points, planned one
 // after the other, find the same offset.
 //
-// Cost: (2·radius/step + 1)² placements of up to 20 height samples each; 169 × 20 at the
-// defaults, some 10 µs per foot, searched once per foot and touch-down on the planner thread.
+// Cost: (2·radius/step + 1)² placements of up to 20 height samples each; 361 × 20 for the
+// humanoid's 20 cm feet (the window grows to 18 cm for them, see searchRadius), where a
+// placement is searched at all, once per foot and touch-down on the planner thread.
 // Allocates nothing.
 #pragma once
 
@@ -28,8 +29,9 @@ namespace ballast::gait {
 
 struct FootholdSearchParameters {
   bool enabled = true;
-  /// m, half width of the searched window: a foot straddling an edge moves off it by up to
-  /// half its length plus the patch
+  /// m, half width of the searched window, at least: a foot straddling an edge moves off it by
+  /// up to half its length plus the patch and one step, and the window grows to that where it
+  /// is wider (searchRadius)
   double radius = 0.12;
   double step = 0.02;           ///< m, between the placements tried
   /// m, around each contact point that must be good: the sole beyond the point (2 cm on the
@@ -77,19 +79,31 @@ inline bool goodPlacement(const Eigen::Vector3d& toe, const Eigen::Vector3d& hee
   return std::abs(level[0] - level[1]) <= s.edgeTolerance + s.maxSlope * length;
 }
 
+/// Half width of the window searched for a foot from toe to heel: `radius`, or, where that is
+/// more, what moving the foot off an edge under its middle takes (half its length and the patch
+/// ahead of its toe, and one step more for an edge between the grid's placements). With 12 cm
+/// and a 20 cm foot, a foot whose toe was 5 cm over a 5 cm stage found no placement (the column
+/// before the edge read as the stage in the live map) and kept the paper's foothold across it.
+inline double searchRadius(const Eigen::Vector3d& toe, const Eigen::Vector3d& heel,
+                           const FootholdSearchParameters& s) {
+  const double length = std::hypot(toe.x() - heel.x(), toe.y() - heel.y());
+  return std::max(s.radius, 0.5 * length + s.patch + s.step);
+}
+
 /// The offset (x, y, 0) to add to both points of a foot whose paper's footholds are toe and
 /// heel; zero where those are good, or where nothing in the window is.
 inline Eigen::Vector3d footholdOffset(const Eigen::Vector3d& toe, const Eigen::Vector3d& heel,
                                       const TerrainQuery& terrain,
                                       const FootholdSearchParameters& s) {
   if (!s.enabled || goodPlacement(toe, heel, 0.0, 0.0, terrain, s)) return Eigen::Vector3d::Zero();
-  const int n = static_cast<int>(std::floor(s.radius / s.step + 1e-9));
+  const double radius = searchRadius(toe, heel, s);
+  const int n = static_cast<int>(std::floor(radius / s.step + 1e-9));
   double best = INFINITY;
   Eigen::Vector3d offset = Eigen::Vector3d::Zero();
   for (int i = -n; i <= n; ++i)
     for (int j = -n; j <= n; ++j) {
       const double dx = i * s.step, dy = j * s.step, d2 = dx * dx + dy * dy;
-      if (d2 >= best || d2 > s.radius * s.radius + 1e-12) continue;
+      if (d2 >= best || d2 > radius * radius + 1e-12) continue;
       if (!goodPlacement(toe, heel, dx, dy, terrain, s)) continue;
       best = d2;
       offset = Eigen::Vector3d(dx, dy, 0.0);

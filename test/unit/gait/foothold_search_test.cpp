@@ -46,13 +46,31 @@ TEST(FootholdSearch, AFootStraddlingTheEdgeMovesBackOffIt) {
   EXPECT_NEAR(on.x(), 0.06, 1e-9);
 }
 
+TEST(FootholdSearch, AFootWithItsMiddleOverTheEdgeMovesOffIt) {
+  // Toe 9 cm over the edge: back off it takes 16 cm (the toe's patch before the edge), forward
+  // 18 cm (the heel's past it); both beyond `radius`, within the 20 cm foot's window.
+  const TestTerrain t;
+  const FootholdSearchParameters s;
+  const Eigen::Vector3d toe = at(1.59), heel = at(1.39);
+  ASSERT_LT(s.radius, 0.16);
+  EXPECT_NEAR(searchRadius(toe, heel, s), 0.1 + s.patch + s.step, 1e-12);
+  const Eigen::Vector3d d = footholdOffset(toe, heel, t, s);
+  EXPECT_NEAR(d.x(), -0.16, 1e-9);
+  EXPECT_NEAR(d.y(), 0.0, 1e-9);
+  EXPECT_TRUE(goodPlacement(toe, heel, d.x(), d.y(), t, s));
+  // The edge under the foot's middle: off it either way within the window.
+  const Eigen::Vector3d m = footholdOffset(at(1.61), at(1.41), t, s);
+  EXPECT_TRUE(goodPlacement(at(1.61), at(1.41), m.x(), m.y(), t, s));
+  EXPECT_NE(m, Eigen::Vector3d::Zero());
+}
+
 TEST(FootholdSearch, UnknownColumnsAreAvoidedAndNothingGoodKeepsThePapers) {
   TestTerrain t;
   const FootholdSearchParameters s;
   const Eigen::Vector3d d = footholdOffset(at(0.45), at(0.25), t, s);
   EXPECT_NE(d, Eigen::Vector3d::Zero());
   EXPECT_TRUE(goodPlacement(at(0.45), at(0.25), d.x(), d.y(), t, s));
-  EXPECT_LE(d.norm(), s.radius + 1e-9);
+  EXPECT_LE(d.norm(), searchRadius(at(0.45), at(0.25), s) + 1e-9);
   t.unknownEverywhere = true;
   EXPECT_EQ(footholdOffset(at(1.0), at(0.8), t, s), Eigen::Vector3d::Zero());
   FootholdSearchParameters off = s;

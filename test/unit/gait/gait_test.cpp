@@ -341,13 +341,15 @@ TEST_F(SwingPlannerTest, TheFootholdSearchRunsOncePerFootAndTouchDown) {
   s.baseVelocity = s.comVelocity = Eigen::Vector3d{0.5, 0, 0};
   UnknownTerrain terrain;
   planner.update(schedule, s, VelocityCommand{0.5, 0, 0}, 1.0, terrain);
-  // One search: the paper's placement, then every grid offset within the radius.
+  // One search: the paper's placement, then every grid offset within the foot's window.
   const FootholdSearchParameters& f = params.search;
-  const int n = static_cast<int>(std::floor(f.radius / f.step + 1e-9));
+  const double radius = searchRadius(offsets[kLeftToe], offsets[kLeftHeel], f);
+  ASSERT_EQ(radius, searchRadius(offsets[kRightToe], offsets[kRightHeel], f));
+  const int n = static_cast<int>(std::floor(radius / f.step + 1e-9));
   int placements = 1;
   for (int i = -n; i <= n; ++i)
     for (int j = -n; j <= n; ++j)
-      placements += (i * i + j * j) * f.step * f.step <= f.radius * f.radius + 1e-12;
+      placements += (i * i + j * j) * f.step * f.step <= radius * radius + 1e-12;
   // Toe and heel land together (no toe-off lead): one search per swing of each foot.
   const int swings = planner.swingCount(kLeftToe) + planner.swingCount(kRightToe);
   ASSERT_EQ(planner.swingCount(kLeftHeel) + planner.swingCount(kRightHeel), swings);
