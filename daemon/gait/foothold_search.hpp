@@ -42,6 +42,9 @@ struct FootholdSearchParameters {
   double maxSlope = 0.35;       ///< dz per metre (≈ 19°)
 };
 
+/// Height samples under a sole, heel to toe (a longer sole is sampled more sparsely).
+inline constexpr int kMaxSoleSamples = 32;
+
 /// Whether the ground under toe and heel at (toe, heel) + d is good (see the header comment).
 inline bool goodPlacement(const Eigen::Vector3d& toe, const Eigen::Vector3d& heel, double dx,
                           double dy, const TerrainQuery& terrain, const FootholdSearchParameters& s) {
@@ -63,17 +66,22 @@ inline bool goodPlacement(const Eigen::Vector3d& toe, const Eigen::Vector3d& hee
     level[k++] = h;
   }
   // Under the sole between them, sampled every `step`: no edge (toe on a stage, heel on the
-  // floor is not a slope).
+  // floor is not a slope). Any two samples differ by at most edgeTolerance plus maxSlope over
+  // the distance between them, not only neighbours: a map's column at an edge can hold part of
+  // the rise (a lidar map's face hits read 2 cm in front of a 4 cm stage), and neighbour by
+  // neighbour each part passed as within edgeTolerance.
   const double length = std::hypot(toe.x() - heel.x(), toe.y() - heel.y());
-  const int n = std::max(1, static_cast<int>(std::ceil(length / s.step)));
-  const double soleRise = std::max(s.edgeTolerance, length / n * s.maxSlope);
-  double previous = level[1];
+  const int n = std::clamp(static_cast<int>(std::ceil(length / s.step)), 1, kMaxSoleSamples - 1);
+  const double spacing = length / n;
+  double sole[kMaxSoleSamples];
+  sole[0] = level[1];
   for (int i = 1; i <= n; ++i) {
     const double a = static_cast<double>(i) / n;
-    const double h = terrain.height(heel.x() + dx + a * (toe.x() - heel.x()),
-                                    heel.y() + dy + a * (toe.y() - heel.y()));
-    if (std::abs(h - previous) > soleRise) return false;
-    previous = h;
+    sole[i] = terrain.height(heel.x() + dx + a * (toe.x() - heel.x()),
+                             heel.y() + dy + a * (toe.y() - heel.y()));
+    for (int j = 0; j < i; ++j)
+      if (std::abs(sole[i] - sole[j]) > s.edgeTolerance + s.maxSlope * spacing * (i - j))
+        return false;
   }
   // Toe and heel on one level, or on one slope no steeper than maxSlope.
   return std::abs(level[0] - level[1]) <= s.edgeTolerance + s.maxSlope * length;

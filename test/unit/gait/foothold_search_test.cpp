@@ -100,6 +100,32 @@ TEST(FootholdSearch, ASoleAcrossALowStepIsNotGood) {
   EXPECT_TRUE(goodPlacement(at(1.3), at(1.1), 0, 0, LowStep{}, s));   // both on it
 }
 
+/// The same step as a lidar map can hold it: the column in front of the edge half as high
+/// (face hits), so that no two neighbouring samples differ by more than edgeTolerance.
+class LowStepWithAFace final : public TerrainQuery {
+ public:
+  double height(double x, double) const override { return x >= 1.0 ? 0.04 : x >= 0.98 ? 0.02 : 0.0; }
+};
+
+/// A ramp of slope 0.3 as a 2 cm-cell map holds it: 2 cm stairs every 6.7 cm.
+class QuantisedRamp final : public TerrainQuery {
+ public:
+  double height(double x, double) const override {
+    return x < 1.0 ? 0.0 : 0.02 * std::floor(0.3 * (x - 1.0) / 0.02);
+  }
+};
+
+TEST(FootholdSearch, AStepWhoseEdgeColumnHoldsPartOfItIsNoSlope) {
+  const FootholdSearchParameters s;
+  // Toe 5 cm past the edge, heel 15 cm before it (the placement MuJoCo's stage walk landed on).
+  EXPECT_FALSE(goodPlacement(at(1.05), at(0.85), 0, 0, LowStepWithAFace{}, s));
+  EXPECT_FALSE(goodPlacement(at(1.11), at(0.91), 0, 0, LowStepWithAFace{}, s));
+  EXPECT_TRUE(goodPlacement(at(1.3), at(1.1), 0, 0, LowStepWithAFace{}, s));  // both on it
+  // A ramp within maxSlope stays good wherever the sole's samples fall on its stairs.
+  for (double toe = 1.3; toe < 1.5; toe += 0.005)
+    EXPECT_TRUE(goodPlacement(at(toe), at(toe - 0.2), 0, 0, QuantisedRamp{}, s)) << toe;
+}
+
 TEST(FootholdSearch, AllocatesNothing) {
   const TestTerrain t;
   const FootholdSearchParameters s;
