@@ -236,6 +236,7 @@ TEST_F(SingleRigidBody, CostTermsAreTheKinodynamicProblems) {
   kinoSettings.stateWeights = Eigen::VectorXd::NullaryExpr(L.nx(), [&] { return 2.0 + d(rng); });
   kinoSettings.inputWeights = Eigen::VectorXd::NullaryExpr(L.nu(), [&] { return 0.02 + 0.01 * d(rng); });
   kinoSettings.limitBarrier.weight = 0.0;
+  kinoSettings.jointStop.weight = 0.0;
   kinoSettings.collisionBarrier.weight = 0.0;
   ProblemSettings srbdSettings = kinoSettings;
   srbdSettings.stateWeights = kinoSettings.stateWeights.head(12);
