@@ -185,4 +185,18 @@ bool castRayOnColumns(const TerrainColumns& c, double highest, const double o[3]
   }
 }
 
+bool castRayOnTerrain(const TerrainColumns& c, double highest, bool floor, double floorHeight,
+                      const double origin[3], const double direction[3], double tMax, double& t) {
+  double best = tMax;
+  bool hit = false;
+  if (floor && direction[2] < 0.0) {
+    const double tf = (floorHeight - origin[2]) / direction[2];
+    if (tf >= 0.0 && tf <= best) best = tf, hit = true;
+  }
+  double tc;
+  if (castRayOnColumns(c, highest, origin, direction, best, tc)) best = tc, hit = true;
+  t = best;
+  return hit;
+}
+
 }  // namespace ballast::plugin

@@ -37,6 +37,10 @@ struct TerrainColumns {
 /// so a ray costs the columns it crosses, not the map's size; allocates nothing.
 bool castRayOnColumns(const TerrainColumns& c, double highest, const double origin[3],
                       const double direction[3], double tMax, double& t);
+/// The same on the columns and, `floor`, the floor plane at floorHeight under them: the
+/// simulated lidar's terrain in both backends.
+bool castRayOnTerrain(const TerrainColumns& c, double highest, bool floor, double floorHeight,
+                      const double origin[3], const double direction[3], double tMax, double& t);
 
 /// Reads the map, keeping what stands on the ground at floorHeight (see the header comment).
 /// Throws std::runtime_error naming the file and what is wrong (unreadable, not an OctoMap

@@ -482,16 +482,8 @@ bool MujocoWorld::castRay(const double origin[3], const double direction[3], dou
   // The terrain is the floor plane and the columns' boxes: cast on the columns' grid, which
   // costs the columns a ray crosses. mj_ray tests every geom, and a building's map is thousands
   // of boxes (a 2880-ray scan took more than the simulation's steps).
-  double best = maxRange;
-  bool hit = false;
-  if (floor_ && direction[2] < 0.0) {
-    const double t = (floorHeight_ - origin[2]) / direction[2];
-    if (t >= 0.0 && t <= best) best = t, hit = true;
-  }
-  double t;
-  if (plugin::castRayOnColumns(columns_, highestColumn_, origin, direction, best, t)) best = t, hit = true;
-  range = best;
-  return hit;
+  return plugin::castRayOnTerrain(columns_, highestColumn_, floor_, floorHeight_, origin, direction,
+                                  maxRange, range);
 }
 
 double MujocoWorld::maxPenetration() const {

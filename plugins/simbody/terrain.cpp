@@ -108,17 +108,8 @@ bool Terrain::signedDistance(const SimTK::Vec3& p, double reach, double& distanc
 
 bool Terrain::castRay(const SimTK::Vec3& origin, const SimTK::Vec3& direction, double maxRange,
                       double& t) const {
-  double best = maxRange;
-  bool hit = false;
-  if (floor_ && direction[2] < 0) {
-    const double tf = (floorHeight_ - origin[2]) / direction[2];
-    if (tf >= 0 && tf <= best) best = tf, hit = true;
-  }
-  double tc;
-  if (plugin::castRayOnColumns(grid_, maxColumnTop_, &origin[0], &direction[0], best, tc))
-    best = tc, hit = true;
-  t = best;
-  return hit;
+  return plugin::castRayOnTerrain(grid_, maxColumnTop_, floor_, floorHeight_, &origin[0],
+                                  &direction[0], maxRange, t);
 }
 
 }  // namespace ballast::simbody
