@@ -78,8 +78,11 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
     int worst = -1;
     double worstRho = kDependentBelow;
     for (int r = 1; r < rows; ++r) {
+      // A row past the nK-th lies in the span of the ones before (R has nK rows).
       const double norm = p.DKt.col(r).norm();
-      const double rho = norm > 0.0 ? std::abs(p.qr.matrixQR()(r, r)) / norm : 1.0;
+      const double rho = r >= nK       ? 0.0
+                         : norm > 0.0 ? std::abs(p.qr.matrixQR()(r, r)) / norm
+                                      : 1.0;
       if (rho < worstRho) worstRho = rho, worst = r;
     }
     if (worst < 0) break;

@@ -135,6 +135,15 @@ TEST(RiccatiSolver, DropsDependentEqualityRowsAndRejectsAnInputFixedTwice) {
     for (int k = 0; k <= 4; ++k) EXPECT_LT((dx[k] - dxRef[k]).norm(), 1e-8 * (1 + dxRef[k].norm())) << k;
     for (int k = 0; k < 4; ++k) EXPECT_LT((du[k] - duRef[k]).norm(), 1e-8 * (1 + duRef[k].norm())) << k;
   }
+  // More general rows than the inputs they act on (4 on 3): the 4th lies in the span of the
+  // first three, the most dependent, and goes (its pivot is past the QR's rows, not read).
+  auto over = testing::randomLqProblem(4, 4, 3, 4, [](int k) { return k == 2 ? 4 : 1; }, rng);
+  ASSERT_TRUE(solver.solve(over, dx0, dx, du));
+  auto withoutLast = over;
+  withoutLast[2].neq = 3;
+  testing::solveByKkt(withoutLast, dx0, dxRef, duRef);
+  for (int k = 0; k <= 4; ++k) EXPECT_LT((dx[k] - dxRef[k]).norm(), 1e-8 * (1 + dxRef[k].norm())) << k;
+  for (int k = 0; k < 4; ++k) EXPECT_LT((du[k] - duRef[k]).norm(), 1e-8 * (1 + duRef[k].norm())) << k;
   // Two unit rows fixing the same input.
   nodes = testing::randomLqProblem(4, 4, 3, 2, [](int) { return 2; }, rng);
   nodes[1].D.setZero();
