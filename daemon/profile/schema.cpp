@@ -167,6 +167,11 @@ const Schema<Settings> kTable({
   numbers("planner.friction_barrier", "[0.1, 5]", 1e-9, 1e6, "", "relaxed log barrier of the friction cone and normal force bounds, [weight (paper: xi), delta in N]").ofLength(2).into<&S::control, &C::locomotion, &L::problem, &P::frictionBarrier>(&toBarrier),
   numbers("planner.limit_barrier", "[0.1, 0.02]", 1e-9, 1e6, "", "relaxed log barrier of the joint position and velocity limits, [weight, delta in rad or rad/s]").ofLength(2).into<&S::control, &C::locomotion, &L::problem, &P::limitBarrier>(&toBarrier),
   numbers("planner.joint_limit_stop", "[10, 0.02, 0.15]", 0, 1e6, "", "relaxed log barrier on the joint position limits (within planner.joint_limit_margin) that acts only within reach of them and is zero, with zero slope, farther away: [weight, delta in rad, reach in rad]; 0 weight: none").ofLength(3).into<&S::control, &C::locomotion, &L::problem, &P::jointStop>(&toReachingBarrier),
+  R{"planner.joint_limit_stop", [](const S& s) -> std::string {
+      const mpc::RelaxedBarrier& b = s.control.locomotion.problem.jointStop;
+      // The barrier's log turns quadratic at delta: 0 divides by zero at the margin.
+      return b.weight > 0.0 && !(b.delta > 0.0) ? "delta (the second number) must be positive when the weight is" : "";
+    }},
   number("planner.friction_coefficient", "0.6", 0.05, 2, "", "friction cone coefficient").into<&S::control, &C::locomotion, &L::problem, &P::frictionCoefficient>(),
   number("planner.min_normal_force", "0", 0, 1e4, "N", "lower bound of a stance contact's normal force").into<&S::control, &C::locomotion, &L::problem, &P::minNormalForce>(),
   number("planner.max_normal_force", "1000", 1, 1e5, "N", "upper bound of a contact's normal force").into<&S::control, &C::locomotion, &L::problem, &P::maxNormalForce>(),

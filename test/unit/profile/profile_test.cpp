@@ -122,6 +122,25 @@ safety:
             path + ":13:29: safety.fall_on_non_foot_contact: expected true or false, got 'maybe'");
 }
 
+TEST_F(ProfileTest, ABarrierWithoutItsQuadraticPartIsRefusedByName) {
+  base();
+  const std::string path = write("p.yaml", R"(extends: base
+planner:
+  joint_limit_stop: [10, 0, 0.15]
+)");
+  const auto p = problems(path);
+  ASSERT_EQ(p.size(), 1u) << testing::PrintToString(p);
+  EXPECT_NE(p[0].find("planner.joint_limit_stop: delta (the second number) must be positive"),
+            std::string::npos)
+      << p[0];
+  // No weight, no barrier: its delta does not matter.
+  const std::string off = write("off.yaml", R"(extends: base
+planner:
+  joint_limit_stop: [0, 0, 0.15]
+)");
+  EXPECT_TRUE(problems(off).empty()) << testing::PrintToString(problems(off));
+}
+
 TEST_F(ProfileTest, YamlSyntaxErrorNamesLineAndColumn) {
   const std::string path = write("p.yaml", "robot:\n  urdf: [a, b\ncontrol: {}\n");
   const auto p = problems(path);
