@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <limits>
 #include <memory>
@@ -96,7 +97,19 @@ TerrainColumns loadTerrainColumns(const std::string& path, double floorHeight,
     if (runBottom <= highestStart) top = std::max(top, runTop);
     any = any || top != TerrainColumns::kNone;
   }
-  if (!any) return columns;
+  if (!any) {
+    // Occupied cells, yet every one starts above the overhangs' limit: the map's ground is not
+    // where the floor is said to be, and none of it would be terrain.
+    float lowest = std::numeric_limits<float>::max();
+    for (const Cell& c : cells) lowest = std::min(lowest, c.bottom);
+    char line[320];
+    std::snprintf(line, sizeof(line),
+                  ": every occupied cell starts more than overhang_height (%.3g m) above "
+                  "floor_height (%.3g m), the lowest at z = %.3f m: nothing in the map would be "
+                  "ground; set floor_height to the map's ground",
+                  overhangHeight, floorHeight, static_cast<double>(lowest));
+    throw std::runtime_error(path + line);
+  }
   columns.x0 = static_cast<double>(minX) * res;
   columns.y0 = static_cast<double>(minY) * res;
   columns.nx = static_cast<int>(nx);

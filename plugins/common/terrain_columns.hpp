@@ -44,7 +44,8 @@ bool castRayOnTerrain(const TerrainColumns& c, double highest, bool floor, doubl
 
 /// Reads the map, keeping what stands on the ground at floorHeight (see the header comment).
 /// Throws std::runtime_error naming the file and what is wrong (unreadable, not an OctoMap
-/// OcTree, too large). A map without occupied cells on the ground gives empty columns.
+/// OcTree, too large, or every occupied cell above floorHeight + overhangHeight). A map without
+/// occupied cells gives empty columns.
 TerrainColumns loadTerrainColumns(const std::string& path, double floorHeight,
                                   double overhangHeight);
 

@@ -192,5 +192,29 @@ TEST_F(TerrainFiles, BadFilesSayWhatIsWrong) {
   }
 }
 
+TEST_F(TerrainFiles, AMapWhoseGroundIsFarAboveTheFloorHeightIsRefusedNotDropped) {
+  // A building map whose floor is at 3 m (a map frame at the lidar's mount, say): with
+  // floor_height 0 every cell starts above the 0.5 m overhang limit. Dropping them all would
+  // leave the simulation on the bare floor while the planner plans on the map.
+  octomap::OcTree tree(0.1);
+  for (double x = -0.95; x < 1.0; x += 0.1)
+    for (double y = -0.95; y < 1.0; y += 0.1) tree.updateNode(x, y, 2.95, true);
+  const std::string file = path("high.bt");
+  ASSERT_TRUE(tree.writeBinaryConst(file));
+  for (const bool floor : {true, false}) {
+    try {
+      Terrain::fromOctomap(file, floor, 0.0, 0.5);
+      ADD_FAILURE() << "a map with no ground near floor_height was taken, floor " << floor;
+    } catch (const std::runtime_error& e) {
+      EXPECT_EQ(std::string(e.what()),
+                file + ": every occupied cell starts more than overhang_height (0.5 m) above "
+                       "floor_height (0 m), the lowest at z = 2.900 m: nothing in the map would "
+                       "be ground; set floor_height to the map's ground");
+    }
+  }
+  // With the floor height at the map's ground it is terrain.
+  EXPECT_NEAR(Terrain::fromOctomap(file, false, 3.0, 0.5).heightAt(0.05, 0.05), 3.0, 1e-6);
+}
+
 }  // namespace
 }  // namespace ballast::simbody
