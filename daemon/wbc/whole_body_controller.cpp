@@ -360,9 +360,17 @@ void WholeBodyController::buildTasks(const WbcState& state, const WbcReference& 
       rows.b[row] = 0.0;
       if (line.norm() > 1e-6 && side.norm() > 1e-6) {  // else a foot on end: nothing to level
         // The tilt about the axis: how far the sole's sideways direction is out of the horizontal.
+        // That direction is the frame axis nearest the horizontal side, whichever it is and
+        // whatever its sign (a vendor's foot link may have y along the leg, or mirrored).
         const Eigen::Matrix3d R = model::framePlacement(model_, data_, contactFrames_[i]).R;
-        const Eigen::Vector3d lateral = R.col(1) - R.col(1).dot(axis) * axis;
-        const double tilt = std::atan2(lateral.z(), lateral.dot(side / side.norm()));
+        const Eigen::Vector3d sideHat = side / side.norm();
+        Eigen::Vector3d lateral = Eigen::Vector3d::Zero();
+        for (int c = 0; c < 3; ++c) {
+          const Eigen::Vector3d across = R.col(c) - R.col(c).dot(axis) * axis;
+          if (std::abs(across.dot(sideHat)) > std::abs(lateral.dot(sideHat))) lateral = across;
+        }
+        // |lateral · sideHat| >= 1/sqrt(3): some column of a rotation leans that far on any unit vector.
+        const double tilt = std::atan(lateral.z() / lateral.dot(sideHat));
         const auto velocity = model::frameVelocity(model_, data_, contactFrames_[i]);
         model::frameJacobian(model_, data_, contactFrames_[i], Jframe_);
         rows.A.block(row, 0, 1, nv_).noalias() = axis.transpose() * Jframe_.bottomRows<3>();

@@ -403,6 +403,28 @@ TEST(Wbc, ASwingingFootIsHeldLevel) {
     else
       EXPECT_GT(std::abs(roll + settings.swingKp * tilt + settings.swingKd * rate), 10.0);
   }
+
+  // The same foot with contact frames oriented as a vendor's links may be (the frames' points
+  // unchanged): mirrored (y pointing out of the right foot, x backwards), and with y along the
+  // leg. The sole's tilt, and so the levelling, does not depend on which axis is sideways.
+  const Eigen::Matrix3d mirrored = Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Matrix3d yUp = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  for (const Eigen::Matrix3d& turn : {mirrored, yUp}) {
+    model::Model turned = m;
+    for (const int f : {toe, heel}) turned.frames[f].placement.R = turned.frames[f].placement.R * turn;
+    settings.levelSwingFeet = true;
+    WholeBodyController wbc(turned, settings);
+    WbcReference ref = wbc.makeReference();
+    ref.stance = {true, true, false, false};
+    consistentReferences(turned, wbc, c, ref);
+    WbcOutput out = wbc.makeOutput();
+    ASSERT_EQ(wbc.update(stateOf(c), ref, out), WbcStatus::kOk);
+    Eigen::MatrixXd J(6, m.nv);
+    model::frameJacobian(m, d, toe, J);
+    const double roll = axis.dot(J.bottomRows<3>() * out.acceleration +
+                                 model::frameClassicalAcceleration(m, d, toe).angular);
+    EXPECT_NEAR(roll, -settings.swingKp * tilt - settings.swingKd * rate, 1e-6) << turn;
+  }
 }
 
 TEST(Wbc, BadInputGivesZeroTorquesAndAFlag) {
