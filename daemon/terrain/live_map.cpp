@@ -89,8 +89,13 @@ ScanUpdate LiveMap::insert(const float* xyz, int count, const ScanPose& pose,
   }
   tree.resetChangeDetection();
   // A cell a ray ends in is occupied even if another ray crossed it (OctoMap's computeUpdate).
-  for (const octomap::OcTreeKey& k : free_)
-    if (!occupied_.count(k)) tree.updateNode(k, false);
+  // Only cells the tree holds above the free clamp are cleared (see the header comment).
+  const float freeClamp = tree.getClampingThresMinLog();
+  for (const octomap::OcTreeKey& k : free_) {
+    if (occupied_.count(k)) continue;
+    const octomap::OcTreeNode* node = tree.search(k);
+    if (node && node->getLogOdds() > freeClamp) tree.updateNode(k, false);
+  }
   for (const octomap::OcTreeKey& k : occupied_) tree.updateNode(k, true);
   update.insertSeconds = since(t0);
 
