@@ -201,7 +201,12 @@ void ControlLoop::guardedTick() {
 void ControlLoop::tick() {
   const std::uint64_t start = tick_start_ = clock_();
   readSensors();
-  if (mapper_) handOffScan();
+  if (mapper_) {
+    const std::uint64_t mapping_start = clock_();
+    handOffScan();
+    tick_profile_.mapping = secondsSince(mapping_start);
+    profile_.mapping += tick_profile_.mapping;
+  }
   if (!started_ && sensors_ok_) {
     modes_.start(settings_->initial_mode, t_);
     if (settings_->initial_mode == Mode::kStandUp) stand_.beginStandUp(input_.state);
@@ -276,11 +281,12 @@ void ControlLoop::keepSchedule(double work) {
       const LoopProfile& p = tick_profile_;
       std::snprintf(message_, sizeof(message_),
                     "stalled tick: began %.2f ms after its deadline, %u periods skipped; the tick "
-                    "before worked %.2f ms: estimator %.2f, planner %.2f, controller %.2f, "
-                    "backend %.2f (the rest %.2f)",
+                    "before worked %.2f ms: estimator %.2f, mapping %.2f, planner %.2f, "
+                    "controller %.2f, backend %.2f (the rest %.2f)",
                     timing_.lateness * 1e3, timing_.skipped, work * 1e3, p.estimator * 1e3,
-                    p.planner * 1e3, p.controller * 1e3, timing_.work * 1e3,
-                    (work - p.estimator - p.planner - p.controller - timing_.work) * 1e3);
+                    p.mapping * 1e3, p.planner * 1e3, p.controller * 1e3, timing_.work * 1e3,
+                    (work - p.estimator - p.mapping - p.planner - p.controller - timing_.work) *
+                        1e3);
       event(true, message_);
     }
     if (t_ >= next_late_warning_) {

@@ -175,6 +175,7 @@ struct FaultList {
 struct LoopProfile {
   double estimator = 0.0;   ///< the state estimator
   double planner = 0.0;     ///< posting to the planner and taking its plans (lockstep: waiting)
+  double mapping = 0.0;     ///< handing lidar scans to the mapping thread (lockstep: waiting for maps)
   double controller = 0.0;  ///< standing controller or plan sampling + whole-body controller
   double backend = 0.0;     ///< advance(): lockstep, the simulation's step; real time, its work
   double total = 0.0;       ///< whole ticks (real time: without the sleep)
