@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "terrain_collision.hpp"
 #include "urdf_joints.hpp"  // plugins/common
 
 namespace ballast::mujoco {
@@ -414,24 +415,31 @@ class Builder {
       << num(s_.solver_tolerance) << "\">\n";
     x << "    <flag energy=\"enable\"/>\n  </option>\n";
     x << "  <size njmax=\"600\" nconmax=\"200\"/>\n";
+    const plugin::TerrainColumns& c = in_.columns;
+    const auto boxes = terrainBoxes(c, s_.floor, s_.floor_height, &out_.terrainBoxOfColumn);
+    // Columns are solid from their top down: the boxes reach 1 m below the lowest of them.
+    double bottom = s_.floor ? s_.floor_height : kInf, highest = -kInf;
+    for (const auto& b : boxes) bottom = std::min(bottom, b[4]), highest = std::max(highest, b[4]);
+    bottom -= 1.0;
+    if (!boxes.empty()) {  // the grid and the boxes (terrain_collision.hpp), filled once compiled
+      const std::array<double, 4> extent{c.nx * c.resolution / 2, c.ny * c.resolution / 2,
+                                         highest - bottom, 1.0};
+      x << "  <asset>\n    <hfield name=\"" << kTerrainIndex << "\" nrow=\"" << c.ny << "\" ncol=\""
+        << c.nx << "\" size=\"" << nums(extent) << "\"/>\n    <hfield name=\"" << kTerrainBoxes
+        << "\" nrow=\"" << boxes.size() << "\" ncol=\"5\" size=\"1 1 1 1\"/>\n  </asset>\n";
+    }
     x << "  <worldbody>\n";
     const std::string terrain = contactAttributes("2", "contype=\"0\" conaffinity=\"1\"");
     if (s_.floor)
       x << "    <geom name=\"floor\" type=\"plane\" size=\"0 0 1\" pos=\"0 0 "
         << num(s_.floor_height) << "\"" << terrain << "/>\n";
-    const auto boxes = terrainBoxes(in_.columns, s_.floor, s_.floor_height);
     if (!boxes.empty()) {
-      // Columns are solid from their top down: the boxes reach 1 m below the lowest of them.
-      double bottom = s_.floor ? s_.floor_height : kInf;
-      for (const auto& b : boxes) bottom = std::min(bottom, b[4]);
-      bottom -= 1.0;
-      int k = 0;
-      for (const auto& b : boxes) {
-        const std::array<double, 3> half{(b[2] - b[0]) / 2, (b[3] - b[1]) / 2, (b[4] - bottom) / 2};
-        const std::array<double, 3> centre{(b[0] + b[2]) / 2, (b[1] + b[3]) / 2, (b[4] + bottom) / 2};
-        x << "    <geom name=\"terrain" << k++ << "\" type=\"box\" size=\"" << nums(half)
-          << "\" pos=\"" << nums(centre) << "\"" << terrain << "/>\n";
-      }
+      const std::array<double, 3> middle{c.x0 + c.nx * c.resolution / 2,
+                                         c.y0 + c.ny * c.resolution / 2, bottom};
+      x << "    <geom name=\"terrain\" type=\"hfield\" hfield=\"" << kTerrainIndex << "\" pos=\""
+        << nums(middle) << "\"" << terrain << "/>\n";
+      x << "    <geom name=\"terrain_probe\" type=\"box\" size=\"1 1 1\" group=\"3\" "
+           "contype=\"0\" conaffinity=\"0\"/>\n";
     }
     out_.terrainBoxes = static_cast<int>(boxes.size());
     emitBody(0, x, "    ");
@@ -451,15 +459,14 @@ class Builder {
 }  // namespace
 
 std::vector<std::array<double, 5>> terrainBoxes(const plugin::TerrainColumns& c, bool floor,
-                                                double floorHeight) {
+                                                double floorHeight, std::vector<int>* boxOfColumn) {
   std::vector<std::array<double, 5>> boxes;
-  if (c.empty()) return boxes;
+  std::vector<int> boxOf(c.tops.size(), -1);
   constexpr float kFloorTolerance = 1e-6f;
-  std::vector<char> used(c.tops.size(), 0);
   auto wanted = [&](int ix, int iy) {
     const float top = c.top(ix, iy);
-    return top != plugin::TerrainColumns::kNone && !used[static_cast<std::size_t>(ix + c.nx * iy)] &&
-           !(floor && top <= floorHeight + kFloorTolerance);
+    return top != plugin::TerrainColumns::kNone &&
+           boxOf[static_cast<std::size_t>(ix + c.nx * iy)] < 0 && !(floor && top <= floorHeight + kFloorTolerance);
   };
   for (int iy = 0; iy < c.ny; ++iy)
     for (int ix = 0; ix < c.nx; ++ix) {
@@ -475,11 +482,13 @@ std::vector<std::array<double, 5>> terrainBoxes(const plugin::TerrainColumns& c,
         if (!row) break;
       }
       for (int y = iy; y < y1; ++y)
-        for (int x = ix; x < x1; ++x) used[static_cast<std::size_t>(x + c.nx * y)] = 1;
+        for (int x = ix; x < x1; ++x)
+          boxOf[static_cast<std::size_t>(x + c.nx * y)] = static_cast<int>(boxes.size());
       boxes.push_back({c.x0 + ix * c.resolution, c.y0 + iy * c.resolution,
                        c.x0 + x1 * c.resolution, c.y0 + y1 * c.resolution,
                        static_cast<double>(top)});
     }
+  if (boxOfColumn) *boxOfColumn = std::move(boxOf);
   return boxes;
 }
 

@@ -26,8 +26,11 @@
 //   - terrain: the floor as a plane, the map's columns (plugins/common/terrain_columns.hpp, the
 //     same columns the simbody backend simulates) as boxes, equal neighbouring columns merged into
 //     rectangles (the lab stage is one box; columns at the floor's height are the floor). Boxes
-//     keep the columns' vertical sides and sharp edges, which a height field (triangulated
-//     between grid points) would turn into 2 cm ramps.
+//     keep the columns' vertical sides and sharp edges, which a height field's surface
+//     (triangles between grid points) would turn into 2 cm ramps. The boxes are not geoms: in
+//     MuJoCo's collision detection a height field geom, "terrain", stands for them and reaches
+//     them through the columns' grid (terrain_collision.hpp: a step costs the columns near the
+//     robot, not every box); its own surface is not used.
 #pragma once
 
 #include <array>
@@ -83,6 +86,8 @@ struct BuiltModel {
   std::vector<std::vector<std::string>> footGeoms;
   int bodyGeoms = 0;      ///< collision geoms on other bodies
   int terrainBoxes = 0;   ///< boxes made of the map's columns
+  /// Per column (ix + nx·iy) of the map, the number of its box (terrainBoxes() order), −1: none.
+  std::vector<int> terrainBoxOfColumn;
   int skippedShapes = 0;  ///< URDF <collision> meshes left out
 };
 
@@ -91,8 +96,10 @@ struct BuiltModel {
 BuiltModel buildMjcf(const ModelInput& input);
 
 /// The map's columns as boxes (equal neighbours merged): each {x0, y0, x1, y1, top}; columns at
-/// or below the floor are left to the floor when there is one.
+/// or below the floor are left to the floor when there is one. `boxOfColumn`, if given: per
+/// column (ix + nx·iy), the number of its box, −1 for none.
 std::vector<std::array<double, 5>> terrainBoxes(const plugin::TerrainColumns& columns, bool floor,
-                                                double floorHeight);
+                                                double floorHeight,
+                                                std::vector<int>* boxOfColumn = nullptr);
 
 }  // namespace ballast::mujoco

@@ -9,6 +9,7 @@
 
 #include "format.hpp"           // plugins/common
 #include "initial_posture.hpp"  // plugins/common
+#include "terrain_collision.hpp"
 
 namespace ballast::mujoco {
 namespace {
@@ -28,6 +29,7 @@ void installHandlers() {
     mju_user_error = throwMujocoError;
     mju_user_warning = ignoreMujocoWarning;
   });
+  installTerrainCollision();
 }
 
 std::array<double, 3> cross(const std::array<double, 3>& a, const std::array<double, 3>& b) {
@@ -141,6 +143,8 @@ MujocoWorld::MujocoWorld(const WorldOptions& options)
                                "' to give an armature");
 
   m_ = compile(built_.xml, urdfPath_);
+  if (built_.terrainBoxes > 0)
+    writeTerrainIndex(m_, columns_, built_.terrainBoxOfColumn);
   d_ = mj_makeData(m_);
   mass_ = mj_getTotalmass(m_);
   baseBody_ = mj_name2id(m_, mjOBJ_BODY, built_.baseBody.c_str());
@@ -480,8 +484,8 @@ void MujocoWorld::lidarPose(double origin[3], double R[9]) const {
 bool MujocoWorld::castRay(const double origin[3], const double direction[3], double maxRange,
                           double& range) const {
   // The terrain is the floor plane and the columns' boxes: cast on the columns' grid, which
-  // costs the columns a ray crosses. mj_ray tests every geom, and a building's map is thousands
-  // of boxes (a 2880-ray scan took more than the simulation's steps).
+  // costs the columns a ray crosses. The boxes are not geoms (terrain_collision.hpp), and mj_ray
+  // on thousands of boxes, as they once were, took a 2880-ray scan more than the steps.
   return plugin::castRayOnTerrain(columns_, highestColumn_, floor_, floorHeight_, origin, direction,
                                   maxRange, range);
 }

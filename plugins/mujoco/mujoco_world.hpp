@@ -110,8 +110,8 @@ class MujocoWorld {
   plugin::ImuTruth imu() const;
   /// World pose of the lidar frame: origin and R (world <- sensor, row-major).
   void lidarPose(double origin[3], double R[9]) const;
-  /// First terrain hit along a unit ray within maxRange (mj_ray on the terrain geoms only: the
-  /// robot does not see itself).
+  /// First terrain hit along a unit ray within maxRange (the floor and the columns,
+  /// plugin::castRayOnTerrain: the robot does not see itself).
   bool castRay(const double origin[3], const double direction[3], double maxRange,
                double& range) const;
   /// Deepest penetration of any robot geom into the terrain in the current state, m.

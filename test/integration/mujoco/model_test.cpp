@@ -108,6 +108,73 @@ TEST(MujocoModel, TheStageIsOneBoxAndTheMapsFloorIsTheFloorPlane) {
   EXPECT_NEAR(area, 8.0 * 4.0, 0.1);
 }
 
+const char* const kLinkWithMass = R"(<inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>)";
+
+// The boxes are not geoms but reached through the columns' grid (terrain_collision.hpp): a
+// contact sphere still meets the columns as boxes with vertical sides and sharp edges, where a
+// height field's own surface (triangles between the grid's points) would be a ramp 2 cm wide.
+TEST(MujocoModel, ASphereMeetsTheStagesTopSideAndEdgeAsTheColumnsHaveThem) {
+  const std::string map = ::testing::TempDir() + "edge10.bt";
+  const auto tree =
+      maps::makeTerrainMap(maps::stage(0.10, 0.6, 1.4, 2.0), 0.02, {-1, 3, -1.5, 1.5});
+  std::string error;
+  ASSERT_TRUE(maps::writeTerrainMap(*tree, map, error)) << error;
+  // One body carrying one contact sphere (no collision box: one sphere, on the point).
+  const std::string urdf = ::testing::TempDir() + "ball.urdf";
+  std::ofstream(urdf) << "<robot name='ball'><link name='base'>" << kLinkWithMass << "</link></robot>";
+  WorldOptions o = options("imu: {frame: base}\nlidar: {enabled: false}\n");
+  o.urdfPath = urdf;
+  o.contacts = {{"foot", "base", {0, 0, 0}}};
+  o.terrainMap = map;
+  MujocoWorld world(o);
+  const double r = 0.01, edge = 0.6, top = world.terrainHeight(edge + 0.01, 0.0);
+  ASSERT_NEAR(top, 0.10, 0.011);
+  ASSERT_EQ(world.terrainHeight(edge - 0.01, 0.0), 0.0);
+  // The sphere's centre at (x, 0, z): its one contact's distance and normal (terrain to sphere).
+  struct Touch {
+    int count = 0;
+    double dist = 0;
+    std::array<double, 3> normal{};
+  };
+  auto touch = [&](double x, double z) {
+    world.modifyState([&](const mjModel* m, mjData* d) {
+      double* q = d->qpos + m->jnt_qposadr[0];  // the free joint: position, then quaternion
+      q[0] = x, q[1] = 0.0, q[2] = z - r, q[3] = 1, q[4] = q[5] = q[6] = 0;
+    });
+    Touch t;
+    t.count = world.data()->ncon;
+    if (t.count == 0) return t;
+    const mjContact& c = world.data()->contact[0];
+    t.dist = c.dist;
+    // The frame's normal points from geom1 to geom2.
+    const double sign = world.model()->geom_bodyid[c.geom1] == 0 ? 1.0 : -1.0;
+    t.normal = {sign * c.frame[0], sign * c.frame[1], sign * c.frame[2]};
+    return t;
+  };
+  // On the top 2 mm inside the edge: the top face.
+  Touch t = touch(edge + 0.002, top + r - 0.001);
+  ASSERT_EQ(t.count, 1);
+  EXPECT_NEAR(t.dist, -0.001, 1e-9);
+  EXPECT_NEAR(t.normal[2], 1.0, 1e-9);
+  // Beside the stage, 5 cm below its top: the vertical side.
+  t = touch(edge - r + 0.001, top - 0.05);
+  ASSERT_EQ(t.count, 1);
+  EXPECT_NEAR(t.dist, -0.001, 1e-9);
+  EXPECT_NEAR(t.normal[0], -1.0, 1e-9);
+  // Over the edge: the corner, along the line from it to the centre.
+  t = touch(edge - 0.005, top + 0.005);
+  ASSERT_EQ(t.count, 1);
+  EXPECT_NEAR(t.dist, std::hypot(0.005, 0.005) - r, 1e-9);
+  EXPECT_NEAR(t.normal[0], -std::sqrt(0.5), 1e-9);
+  EXPECT_NEAR(t.normal[2], std::sqrt(0.5), 1e-9);
+  // Over a seam between the stage's columns, away from the edge: the stage is one box, one contact.
+  t = touch(1.0, top + r - 0.001);
+  EXPECT_EQ(t.count, 1);
+  EXPECT_NEAR(t.dist, -0.001, 1e-9);
+  // Clear of the stage and above the floor: nothing.
+  EXPECT_EQ(touch(edge - r - 0.001, top - 0.05).count, 0);
+}
+
 std::string errorOf(const std::string& urdf, const std::string& yaml = "") {
   const std::string path = ::testing::TempDir() + "bad.urdf";
   std::ofstream(path) << urdf;
@@ -124,8 +191,6 @@ std::string errorOf(const std::string& urdf, const std::string& yaml = "") {
   }
   return "";
 }
-
-const char* const kLinkWithMass = R"(<inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial>)";
 
 TEST(MujocoModel, BadUrdfsNameTheElement) {
   const std::string base = std::string("<robot name='r'><link name='base'>") + kLinkWithMass + "</link>";
