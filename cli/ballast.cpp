@@ -479,6 +479,14 @@ int main(int argc, char** argv) {
       ->required();
   push->add_option("--body", body, protocol::fieldDoc("push", "body"));
 
+  auto* advance = app.add_subcommand("advance", cli::help("advance"));
+  std::string advanceTo;
+  bool noWait = false;
+  advance->add_option("time", advanceTo,
+                      "controller time to run to (12, 12.5s, 2min), or +DURATION from now")
+      ->required();
+  advance->add_flag("--no-wait", noWait, "return at once; by default wait until the loop is there");
+
   auto* record = app.add_subcommand("record", "record telemetry at the control rate");
   record->require_subcommand(1);
   std::string recordFile;
@@ -692,6 +700,44 @@ int main(int argc, char** argv) {
                    std::printf("recording to %s; `ballast record stop` ends it\n",
                                r["path"].get<std::string>().c_str());
                  });
+  }
+  if (name == "advance") {
+    const bool relative = !advanceTo.empty() && advanceTo[0] == '+';
+    double until;
+    if (!cli::parseDuration(relative ? advanceTo.substr(1) : advanceTo, until, error))
+      return usage("advance: " + error);
+    if (const int c = s.connect(); c != kOk) return c;
+    json reply;
+    auto failed = [&](int code) {
+      return code == kNoDaemon ? code
+                               : refuse(o, Session::errorCode(reply), reply["error"].value("message", ""));
+    };
+    // The controller time now: the start of +DURATION, and where a wait ends at once.
+    auto now = [&](double& t) {
+      const int code = s.call({{"cmd", "status"}}, reply);
+      if (code == kOk) t = reply["status"].value("t", 0.0);
+      return code;
+    };
+    double t = 0.0;
+    if (relative) {
+      if (const int code = now(t); code != kOk) return failed(code);
+      until += t;
+    }
+    if (const int code = s.call({{"cmd", "advance"}, {"until", until}}, reply); code != kOk)
+      return failed(code);
+    // A held loop stands still at `until`; each command there takes one more tick.
+    while (!noWait) {
+      if (const int code = now(t); code != kOk) return failed(code);
+      if (t + 5e-4 >= until) break;
+      ::usleep(10000);
+    }
+    if (o.json)
+      std::cout << text(json{{"ok", true}, {"until", until}, {"t", t}}) << "\n";
+    else if (noWait)
+      std::printf("advancing to t = %.3f s\n", until);
+    else
+      std::printf("advanced to t = %.3f s\n", t);
+    return kOk;
   }
   if (name == "plot") return plot(plotReq, o);
   if (name == "log") return logCmd(logOpt, o);

@@ -23,11 +23,11 @@ inline constexpr Verb kVerbs[] = {
     {"map save", "map_save"},      {"record start", "record_start"},
     {"record stop", "record_stop"}, {"lease acquire", "lease_acquire"},
     {"lease take", "lease_take"},  {"lease return", "lease_return"},
+    {"advance", "advance"},
 };
 
-/// Commands no verb sends: the CLI prints its own version; leaving ends a watch; the programs
-/// that script a held lockstep daemon (ballast-study) send `advance` themselves.
-inline constexpr const char* kNotSent[] = {"version", "unwatch", "advance"};
+/// Commands no verb sends: the CLI prints its own version; leaving ends a watch.
+inline constexpr const char* kNotSent[] = {"version", "unwatch"};
 
 /// The help of a command's verb.
 inline const char* help(const char* command) { return protocol::commandDoc(command); }
