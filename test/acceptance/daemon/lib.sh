@@ -1,6 +1,9 @@
 # Helpers for the acceptance scripts: start ballastd in a scratch directory (lockstep, or real
 # time with BALLAST_ACCEPTANCE_REALTIME=1), drive it with ballast, wait on status fields (no
 # sleeps where a status poll works), fail loudly.
+# Lockstep is held (ballastd --lockstep --hold): controller time passes only when a helper here
+# runs it on (`ballast advance`), so a command lands at the controller time the script reaches,
+# whatever the machine's load, and a run is the same every time. Real time polls the wall clock.
 # Usage from a script:  . "$(dirname "$0")/lib.sh" BALLASTD BALLAST PROFILE
 set -eu
 
@@ -29,7 +32,15 @@ trap cleanup EXIT
 
 ballast() { "$BALLAST_BIN" "$@"; }
 
-if [ "${BALLAST_ACCEPTANCE_REALTIME:-0}" = 1 ]; then LOCKSTEP=; else LOCKSTEP=--lockstep; fi
+if [ "${BALLAST_ACCEPTANCE_REALTIME:-0}" = 1 ]; then LOCKSTEP=; else LOCKSTEP="--lockstep --hold"; fi
+
+# held: the daemon is a held lockstep one (time passes by advance_by only)
+held() { [ -n "$LOCKSTEP" ]; }
+# advance_by SECONDS: a held daemon runs that much controller time on (and the call returns
+# there); in real time, the wall clock does it
+advance_by() {
+  if held; then ballast advance "+$1" >/dev/null || fail "advance +$1 at t=$(field t)"; else sleep "$1"; fi
+}
 
 # start_daemon [OPTIONS...]: ballastd on $PROFILE (or $DAEMON_PROFILE), waits for its socket
 start_daemon() {
@@ -44,7 +55,8 @@ start_daemon() {
   done
 }
 
-# wait_until DESCRIPTION SECONDS COMMAND...: runs COMMAND until it succeeds (polling status).
+# wait_until DESCRIPTION SECONDS COMMAND...: runs COMMAND until it succeeds (polling status),
+# every 0.05 s of controller time (held) or wall time, for at most SECONDS of it.
 wait_until() {
   what=$1 limit=$2
   shift 2
@@ -52,7 +64,7 @@ wait_until() {
   until "$@"; do
     i=$((i + 1))
     [ $i -lt $((limit * 20)) ] || fail "timed out waiting for $what"
-    sleep 0.05
+    advance_by 0.05
   done
 }
 
@@ -66,6 +78,7 @@ time_after() { awk -v t="$(field t)" -v t0="$1" -v d="$2" 'BEGIN { exit !(t >= t
 # (wall-time limit: 60 s, or 8 s per simulated second when longer: lockstep under a loaded
 # CI machine runs well below real time)
 sim_time_passes() {
+  if held; then advance_by "$1"; return; fi
   wait_until "$1 s of controller time" "$(awk -v d="$1" 'BEGIN { l = 8 * d; print (l > 60 ? int(l) : 60) }')" \
     time_after "$(field t)" "$1"
 }
@@ -106,7 +119,7 @@ never_damped() {
 # for_seconds S: S s of controller time (wall time in real time), never_damped at every poll
 for_seconds() {
   t_end=$(calc "$(field t) + $1")
-  until time_after "$t_end" 0; do never_damped; sleep 0.1; done
+  until time_after "$t_end" 0; do never_damped; advance_by 0.1; done
 }
 
 # motion_report TSV: the ground-truth base over a recorded telemetry file, for the README's
