@@ -6,14 +6,14 @@
 // both points moved by one horizontal offset d) is good when, around each point (the point and
 // `patch` ahead, behind, left and right of it), every column is known (observed, not the
 // ground default) and the heights differ by no more than `edgeTolerance` or a slope of
-// `maxSlope` across the patch (no step edge, no steep cell under the point); the sole between
-// them crosses no edge; and toe and heel stand on one level or one such slope. The paper's
-// foothold (d = 0) is kept when it is good; otherwise the good d nearest to it on a grid of
-// `step` within `radius`; none good: the paper's foothold, as before. The search is by the
-// foot's centre (the midpoint of toe and heel), so the swings of its two points, planned one
-// after the other, find the same offset.
+// `maxSlope` across the patch, nor along its lines through the point (no step edge, no steep
+// cell under the point); the sole between them crosses no edge; and toe and heel stand on one
+// level or one such slope. The paper's foothold (d = 0) is kept when it is good; otherwise the
+// good d nearest to it on a grid of `step` within `radius`; none good: the paper's foothold, as
+// before. The search is by the foot's centre (the midpoint of toe and heel), so the swings of
+// its two points, planned one after the other, find the same offset.
 //
-// Cost: (2·radius/step + 1)² placements of up to 20 height samples each; 361 × 20 for the
+// Cost: (2·radius/step + 1)² placements of up to 48 height samples each; 361 × 48 for the
 // humanoid's 20 cm feet (the window grows to 18 cm for them, see searchRadius), where a
 // placement is searched at all, once per foot and touch-down on the planner thread.
 // Allocates nothing.
@@ -45,6 +45,24 @@ struct FootholdSearchParameters {
 /// Height samples under a sole, heel to toe (a longer sole is sampled more sparsely).
 inline constexpr int kMaxSoleSamples = 32;
 
+/// Whether the heights along (x0, y0)-(x1, y1), sampled at n + 1 points, hold no edge: any two
+/// differ by at most edgeTolerance plus maxSlope over the distance between them, not only
+/// neighbours (a map's column at an edge can hold part of the rise: a lidar map's face hits read
+/// 2 cm in front of a 4 cm stage, and neighbour by neighbour each part passed as within
+/// edgeTolerance). n <= kMaxSoleSamples - 1.
+inline bool levelAlong(double x0, double y0, double x1, double y1, int n,
+                       const TerrainQuery& terrain, const FootholdSearchParameters& s) {
+  const double spacing = std::hypot(x1 - x0, y1 - y0) / n;
+  double h[kMaxSoleSamples];
+  for (int i = 0; i <= n; ++i) {
+    const double a = static_cast<double>(i) / n;
+    h[i] = terrain.height(x0 + a * (x1 - x0), y0 + a * (y1 - y0));
+    for (int j = 0; j < i; ++j)
+      if (std::abs(h[i] - h[j]) > s.edgeTolerance + s.maxSlope * spacing * (i - j)) return false;
+  }
+  return true;
+}
+
 /// Whether the ground under toe and heel at (toe, heel) + d is good (see the header comment).
 inline bool goodPlacement(const Eigen::Vector3d& toe, const Eigen::Vector3d& heel, double dx,
                           double dy, const TerrainQuery& terrain, const FootholdSearchParameters& s) {
@@ -52,6 +70,12 @@ inline bool goodPlacement(const Eigen::Vector3d& toe, const Eigen::Vector3d& hee
   // (Held to the patch's width, the rise a slope may make grows with it, and a wide patch took
   // a 4 cm step for a ramp.)
   const double patchRise = std::max(s.edgeTolerance, s.patch * s.maxSlope);
+  // The patch's lines through the point, sampled every `step`, hold no edge either: a point on
+  // an edge reads the middle of a map's interpolated rise, within patchRise of both sides (a
+  // heel planned at 1.500 on a 5 cm stage from x = 1.5, read 0.02 between 0 and 0.04, landed
+  // 1 cm short on the floor's side, and the foot pitched over the edge).
+  const int across = std::clamp(static_cast<int>(std::ceil(2.0 * s.patch / s.step)), 1,
+                                kMaxSoleSamples - 1);
   double level[2];
   int k = 0;
   for (const Eigen::Vector3d* p : {&toe, &heel}) {
@@ -63,26 +87,17 @@ inline bool goodPlacement(const Eigen::Vector3d& toe, const Eigen::Vector3d& hee
     for (int i = 0; i < 4; ++i)
       if (!terrain.known(xs[i], ys[i]) || std::abs(terrain.height(xs[i], ys[i]) - h) > patchRise)
         return false;
+    if (!levelAlong(xs[1], y, xs[0], y, across, terrain, s) ||
+        !levelAlong(x, ys[1], x, ys[0], across, terrain, s))
+      return false;
     level[k++] = h;
   }
   // Under the sole between them, sampled every `step`: no edge (toe on a stage, heel on the
-  // floor is not a slope). Any two samples differ by at most edgeTolerance plus maxSlope over
-  // the distance between them, not only neighbours: a map's column at an edge can hold part of
-  // the rise (a lidar map's face hits read 2 cm in front of a 4 cm stage), and neighbour by
-  // neighbour each part passed as within edgeTolerance.
+  // floor is not a slope).
   const double length = std::hypot(toe.x() - heel.x(), toe.y() - heel.y());
   const int n = std::clamp(static_cast<int>(std::ceil(length / s.step)), 1, kMaxSoleSamples - 1);
-  const double spacing = length / n;
-  double sole[kMaxSoleSamples];
-  sole[0] = level[1];
-  for (int i = 1; i <= n; ++i) {
-    const double a = static_cast<double>(i) / n;
-    sole[i] = terrain.height(heel.x() + dx + a * (toe.x() - heel.x()),
-                             heel.y() + dy + a * (toe.y() - heel.y()));
-    for (int j = 0; j < i; ++j)
-      if (std::abs(sole[i] - sole[j]) > s.edgeTolerance + s.maxSlope * spacing * (i - j))
-        return false;
-  }
+  if (!levelAlong(heel.x() + dx, heel.y() + dy, toe.x() + dx, toe.y() + dy, n, terrain, s))
+    return false;
   // Toe and heel on one level, or on one slope no steeper than maxSlope.
   return std::abs(level[0] - level[1]) <= s.edgeTolerance + s.maxSlope * length;
 }

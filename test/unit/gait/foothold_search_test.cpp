@@ -126,6 +126,26 @@ TEST(FootholdSearch, AStepWhoseEdgeColumnHoldsPartOfItIsNoSlope) {
     EXPECT_TRUE(goodPlacement(at(toe), at(toe - 0.2), 0, 0, QuantisedRamp{}, s)) << toe;
 }
 
+/// The 4 cm step as a 2 cm-cell map holds it, heights interpolated between the cells' centres:
+/// the rise spans x 0.99-1.01, and x = 1.0 reads 0.02.
+class InterpolatedStep final : public TerrainQuery {
+ public:
+  double height(double x, double) const override {
+    return 0.04 * std::clamp((x - 0.99) / 0.02, 0.0, 1.0);
+  }
+};
+
+TEST(FootholdSearch, APointOnAnInterpolatedEdgeIsNotGood) {
+  const FootholdSearchParameters s;
+  // The heel on the edge reads 0.02, within edgeTolerance of both sides of its patch and of the
+  // toe (MuJoCo's 5 cm stage walk planned a heel at 1.500 there and fell).
+  EXPECT_FALSE(goodPlacement(at(1.2), at(1.0), 0, 0, InterpolatedStep{}, s));
+  EXPECT_FALSE(goodPlacement(at(1.0), at(0.8), 0, 0, InterpolatedStep{}, s));  // a toe on it
+  const Eigen::Vector3d d = footholdOffset(at(1.2), at(1.0), InterpolatedStep{}, s);
+  EXPECT_NEAR(d.x(), 0.06, 1e-9);  // forward: the heel's patch off the rise
+  EXPECT_TRUE(goodPlacement(at(1.2), at(1.0), d.x(), d.y(), InterpolatedStep{}, s));
+}
+
 TEST(FootholdSearch, AllocatesNothing) {
   const TestTerrain t;
   const FootholdSearchParameters s;
