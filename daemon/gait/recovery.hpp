@@ -11,14 +11,28 @@
 // would have to cross the stance leg (the feet-distance constraint keeps it on its own side).
 // Stepping stops once the point is inside again by `margin` and the centre of mass moves slower
 // than `settleSpeed`: standing then holds it where the feet are.
+//
+// Step timing: the recovery walks the walking gait, but with a shorter period when its first
+// step would otherwise land too late. That step lands half a period after the recovery begins
+// (the double support, then the swing); meanwhile the centre of pressure is at best the point p
+// of the stance foot's support nearest ξ + d (the controllers' model: its toe-heel segment), and
+// ξ + d runs away from p by e^{ωt}. The period is the longest, up to the walking gait's, at
+// whose touch-down ξ + d is still within the step's reach of the stance foot (StepLimits: ahead,
+// behind, the widest step); when none is, the shortest the legs swing (`minPeriod`). A push
+// sideways needs a step of the foot it loads, after a single support on the other foot whose
+// toe-heel line holds no sideways centre of pressure: that step has to be quick. A push along
+// the feet keeps the centre of pressure on a toe or a heel and the step its time.
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include "gait/capture_point.hpp"
 #include "gait/contact.hpp"
+#include "gait/step_adjustment.hpp"
 
 namespace ballast::gait {
 
@@ -27,6 +41,7 @@ struct RecoveryParameters {
   bool enabled = true;
   double margin = 0.02;      ///< m beyond the support polygon that starts steps (and inside it, ends them)
   double settleSpeed = 0.1;  ///< m/s: the centre of mass slower than this ends the steps
+  double minPeriod = 0.6;    ///< s: the shortest gait cycle of the recovery steps
 };
 
 /// Where the robot's centre of pressure must be to hold its capture point still, and how far that
@@ -65,6 +80,39 @@ inline bool leftFootFirst(const Eigen::Vector2d& point,
   for (const Eigen::Vector3d& c : contacts) middle += c.head<2>() / kNumContacts;
   const Eigen::Vector2d d = point - middle;
   return -std::sin(yaw) * d.x() + std::cos(yaw) * d.y() >= 0.0;
+}
+
+/// The recovery gait's period, s (step timing, header comment). `point`: ξ + d (world x, y);
+/// `toe`, `heel`: the stance foot's contact points (world x, y); `yaw`: the heading;
+/// `leftSwings`: the left foot takes the first step; ω in 1/s. Between
+/// min(minPeriod, walkPeriod) and walkPeriod.
+inline double recoveryPeriod(const Eigen::Vector2d& point, const Eigen::Vector2d& toe,
+                             const Eigen::Vector2d& heel, double yaw, bool leftSwings,
+                             const StepLimits& limits, double omega, double walkPeriod,
+                             double minPeriod) {
+  const double shortest = std::min(minPeriod, walkPeriod);
+  // p: the point of the toe-heel segment nearest ξ + d.
+  const Eigen::Vector2d along = toe - heel;
+  const double a = along.squaredNorm() > 0.0
+                       ? std::clamp((point - heel).dot(along) / along.squaredNorm(), 0.0, 1.0)
+                       : 0.0;
+  const Eigen::Vector2d p = heel + a * along;
+  // Heading frame, from the stance foot's middle: p, and the direction ξ + d runs away in.
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  const auto heading = [&](const Eigen::Vector2d& v) {
+    return Eigen::Vector2d(c * v.x() + s * v.y(), -s * v.x() + c * v.y());
+  };
+  const Eigen::Vector2d from = heading(p - 0.5 * (toe + heel));
+  const Eigen::Vector2d away = heading(point - p);
+  const double side = leftSwings ? 1.0 : -1.0;
+  // Largest e^{ωt} with from + away·e^{ωt} within reach (the feet-distance side always is: the
+  // foothold is moved out to it).
+  double reach = std::numeric_limits<double>::infinity();
+  if (away.x() > 0.0) reach = std::min(reach, (limits.maxForward - from.x()) / away.x());
+  if (away.x() < 0.0) reach = std::min(reach, (-limits.maxBackward - from.x()) / away.x());
+  if (side * away.y() > 0.0) reach = std::min(reach, (limits.maxWidth - side * from.y()) / (side * away.y()));
+  if (reach <= 1.0) return shortest;
+  return std::clamp(2.0 * std::log(reach) / omega, shortest, walkPeriod);
 }
 
 }  // namespace ballast::gait

@@ -171,7 +171,14 @@ void LocomotionPlanner::updateRecovery(double t, bool operatorWalks, const gait:
     // The foot on the side the point left to first, at once (no walkStartDelay: the double
     // support that begins the cycle shifts the weight).
     recoveryGait_ = settings_.walkGait;
-    recoveryGait_.rightFirst = !gait::leftFootFirst(support.point, state.contactPositions, yaw);
+    const bool left = gait::leftFootFirst(support.point, state.contactPositions, yaw);
+    recoveryGait_.rightFirst = !left;
+    const int toe = left ? gait::kRightToe : gait::kLeftToe;
+    const int heel = left ? gait::kRightHeel : gait::kLeftHeel;
+    recoveryGait_.period = gait::recoveryPeriod(
+        support.point, state.contactPositions[toe].head<2>(), state.contactPositions[heel].head<2>(),
+        yaw, left, settings_.swing.limits, swings_.omega(), settings_.walkGait.period,
+        settings_.recovery.minPeriod);
   } else if (recovering_ && gait::recovered(support, state.comVelocity.head<2>().norm(),
                                             settings_.recovery)) {
     recovering_ = false;

@@ -136,5 +136,47 @@ TEST(StandingRecovery, ASidewaysStepIsHeldToTheWidestStep) {
   EXPECT_TRUE(step.limited);
 }
 
+// Step timing (recoveryPeriod): ω = 3, the walking period 0.8 s, the shortest 0.4 s, the default
+// reach (0.5 ahead, 0.35 behind, 0.45 wide). The stance foot's toe at x 0.1, heel at -0.1.
+constexpr double kOmega = 3.0, kWalk = 0.8, kShortest = 0.4;
+
+TEST(StandingRecovery, ASidewaysStepIsQuickerTheFartherThePointIsOut) {
+  // The right foot stands (toe (0.1, -0.1), heel (-0.1, -0.1)), the left steps. ξ + d = (0, 0.1):
+  // p = (0, -0.1), ξ + d runs away along +y from 0.2 to the widest step 0.45 in e^{ωt} = 2.25:
+  // the step lands at t = ln 2.25 / 3 = 0.27031 s, half the period: 0.54062 s.
+  const Eigen::Vector2d toe(0.1, -0.1), heel(-0.1, -0.1);
+  const double expected = 2.0 * std::log(2.25) / kOmega;
+  EXPECT_NEAR(expected, 0.54062, 1e-5);
+  EXPECT_NEAR(recoveryPeriod({0.0, 0.1}, toe, heel, 0.0, true, StepLimits{}, kOmega, kWalk, kShortest),
+              expected, kTol);
+  // Heading along +y (the same feet and point turned by 90 degrees): the same period.
+  EXPECT_NEAR(recoveryPeriod({-0.1, 0.0}, {0.1, 0.1}, {0.1, -0.1}, M_PI / 2, true, StepLimits{},
+                             kOmega, kWalk, kShortest),
+              expected, kTol);
+  // Already beyond the widest step at 0.6 from p (reach 0.45/0.6 < 1): the shortest.
+  EXPECT_NEAR(recoveryPeriod({0.0, 0.5}, toe, heel, 0.0, true, StepLimits{}, kOmega, kWalk, kShortest),
+              kShortest, kTol);
+  // 0.05 out: e^{ωt} = 9, 2 ln 9 / 3 = 1.46 s, longer than walking: the walking period.
+  EXPECT_NEAR(recoveryPeriod({0.0, -0.05}, toe, heel, 0.0, true, StepLimits{}, kOmega, kWalk, kShortest),
+              kWalk, kTol);
+  // On the toe-heel line nothing runs away: the walking period. A shortest period above it: that.
+  EXPECT_NEAR(recoveryPeriod({0.05, -0.1}, toe, heel, 0.0, true, StepLimits{}, kOmega, kWalk, kShortest),
+              kWalk, kTol);
+  EXPECT_NEAR(recoveryPeriod({0.0, 0.5}, toe, heel, 0.0, true, StepLimits{}, kOmega, kWalk, 1.0),
+              kWalk, kTol);
+}
+
+TEST(StandingRecovery, AStepBackTakesItsTimeFromTheHeel) {
+  // The left foot stands (toe (0.1, 0.1), heel (-0.1, 0.1)), the right steps. ξ + d = (-0.2, 0):
+  // p = the heel, 0.1 behind the foot's middle; ξ + d runs away along (-0.1, -0.1): behind, from
+  // -0.1 to -0.35 in e^{ωt} = 2.5; sideways (the right foot's side) 0.45 / 0.1 = 4.5, later.
+  // Period 2 ln 2.5 / 3 = 0.61086 s.
+  const double expected = 2.0 * std::log(2.5) / kOmega;
+  EXPECT_NEAR(expected, 0.61086, 1e-5);
+  EXPECT_NEAR(recoveryPeriod({-0.2, 0.0}, {0.1, 0.1}, {-0.1, 0.1}, 0.0, false, StepLimits{}, kOmega,
+                             kWalk, kShortest),
+              expected, kTol);
+}
+
 }  // namespace
 }  // namespace ballast::gait
