@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Dense>
+#include <gtest/gtest.h>
 #include <random>
 #include <vector>
 
@@ -89,6 +90,18 @@ inline void solveByKkt(const std::vector<LqNode>& nodes, const Eigen::VectorXd& 
   du.assign(N, Eigen::VectorXd());
   for (int k = 0; k <= N; ++k) dx[k] = sol.segment(xi(k), nx);
   for (int k = 0; k < N; ++k) du[k] = sol.segment(ui(k), nu);
+}
+
+/// Expects (dx, du) to be the KKT solution (dxRef, duRef): each node's states and inputs within
+/// 1e-8 of it, relative to its size.
+inline void expectKktSolution(const std::vector<Eigen::VectorXd>& dx,
+                              const std::vector<Eigen::VectorXd>& du,
+                              const std::vector<Eigen::VectorXd>& dxRef,
+                              const std::vector<Eigen::VectorXd>& duRef) {
+  for (std::size_t k = 0; k < dxRef.size(); ++k)
+    EXPECT_LT((dx[k] - dxRef[k]).norm(), 1e-8 * (1 + dxRef[k].norm())) << "node " << k;
+  for (std::size_t k = 0; k < duRef.size(); ++k)
+    EXPECT_LT((du[k] - duRef[k]).norm(), 1e-8 * (1 + duRef[k].norm())) << "node " << k;
 }
 
 }  // namespace ballast::mpc::testing

@@ -71,9 +71,8 @@ TEST(RiccatiSolver, MatchesTheKktSolutionWithEqualities) {
     RiccatiSolver solver(N, nx, nu);
     ASSERT_TRUE(solver.solve(nodes, dx0, dx, du));
     testing::solveByKkt(nodes, dx0, dxRef, duRef);
-    for (int k = 0; k <= N; ++k) EXPECT_LT((dx[k] - dxRef[k]).norm(), 1e-8 * (1 + dxRef[k].norm())) << k;
+    testing::expectKktSolution(dx, du, dxRef, duRef);
     for (int k = 0; k < N; ++k) {
-      EXPECT_LT((du[k] - duRef[k]).norm(), 1e-8 * (1 + duRef[k].norm())) << k;
       // Equalities hold, and the feedback reproduces the step.
       const int m = nodes[k].neq;
       EXPECT_LT((nodes[k].C.topRows(m) * dx[k] + nodes[k].D.topRows(m) * du[k] + nodes[k].e.head(m)).norm(), 1e-9);
@@ -108,8 +107,7 @@ TEST(RiccatiSolver, MatchesTheKktSolutionWithStructuredEqualities) {
     RiccatiSolver solver(N, nx, nu);
     ASSERT_TRUE(solver.solve(nodes, dx0, dx, du));
     testing::solveByKkt(nodes, dx0, dxRef, duRef);
-    for (int k = 0; k <= N; ++k) EXPECT_LT((dx[k] - dxRef[k]).norm(), 1e-8 * (1 + dxRef[k].norm())) << k;
-    for (int k = 0; k < N; ++k) EXPECT_LT((du[k] - duRef[k]).norm(), 1e-8 * (1 + duRef[k].norm())) << k;
+    testing::expectKktSolution(dx, du, dxRef, duRef);
   }
 }
 
@@ -132,8 +130,7 @@ TEST(RiccatiSolver, DropsDependentEqualityRowsAndRejectsAnInputFixedTwice) {
     auto without = dependent;
     without[2].neq = 1;
     testing::solveByKkt(without, dx0, dxRef, duRef);
-    for (int k = 0; k <= 4; ++k) EXPECT_LT((dx[k] - dxRef[k]).norm(), 1e-8 * (1 + dxRef[k].norm())) << k;
-    for (int k = 0; k < 4; ++k) EXPECT_LT((du[k] - duRef[k]).norm(), 1e-8 * (1 + duRef[k].norm())) << k;
+    testing::expectKktSolution(dx, du, dxRef, duRef);
   }
   // More general rows than the inputs they act on (4 on 3): the 4th lies in the span of the
   // first three, the most dependent, and goes (its pivot is past the QR's rows, not read).
@@ -142,8 +139,7 @@ TEST(RiccatiSolver, DropsDependentEqualityRowsAndRejectsAnInputFixedTwice) {
   auto withoutLast = over;
   withoutLast[2].neq = 3;
   testing::solveByKkt(withoutLast, dx0, dxRef, duRef);
-  for (int k = 0; k <= 4; ++k) EXPECT_LT((dx[k] - dxRef[k]).norm(), 1e-8 * (1 + dxRef[k].norm())) << k;
-  for (int k = 0; k < 4; ++k) EXPECT_LT((du[k] - duRef[k]).norm(), 1e-8 * (1 + duRef[k].norm())) << k;
+  testing::expectKktSolution(dx, du, dxRef, duRef);
   // Two unit rows fixing the same input.
   nodes = testing::randomLqProblem(4, 4, 3, 2, [](int) { return 2; }, rng);
   nodes[1].D.setZero();
