@@ -54,6 +54,6 @@ awk -v x="$x1" -v e="$END" 'BEGIN { exit !(x >= e + 0.3) }' || fail "the base is
 awk -v d="$(calc "$z1 - $z0")" -v r="$RISE" 'BEGIN { e = d - r; exit !(e <= 0.03 && e >= -0.03) }' ||
   fail "the base rose by $(calc "$z1 - $z0") m, not $RISE m"
 [ "$WAY" != lidar ] || ballast map info
-[ -n "$LOCKSTEP" ] || echo "real time: $(timing_line)"
+held || echo "real time: $(timing_line)"
 stop_daemon
 echo "ok: $WAY, $HEIGHT m"
