@@ -14,7 +14,9 @@
 // removes what was seen, it does not record space nothing was seen in. Creating a node for every
 // unknown cell a ray crosses (and pruning the blocks that then agree) was 80 % of a scan's
 // insertion (BM_LiveMapScan, CPU time 45-60 ms -> 9-10 ms at 4 cm), and the ground (the
-// highest occupied cell) is the same either way; the cost is that a cell first seen as a hit
+// highest occupied cell) is the same either way. The crossed cells are looked up along each ray
+// from the node the last lookup passed through, and gathered in flat sorted arrays rather than
+// hash sets (9-10 ms -> 2 ms); the cost is that a cell first seen as a hit
 // is not held down by earlier misses, so a spurious hit reads occupied until about three
 // scans' rays cross it. Hits beyond maxRange are not inserted.
 // The tree reports the cells whose occupancy changed (OctoMap change detection); only the
@@ -38,6 +40,7 @@
 
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -45,6 +48,7 @@
 #include "terrain/height_map.hpp"
 
 #include <octomap/OcTreeKey.h>
+#include <octomap/octomap_types.h>
 
 namespace octomap {
 class OcTree;
@@ -123,7 +127,10 @@ class LiveMap {
   LiveMapSettings settings_;
   std::unique_ptr<octomap::OcTree> tree_;
   octomap::KeyRay ray_;                          // scratch: one ray's cells
-  octomap::KeySet free_, occupied_;              // scratch: a scan's cells
+  // Scratch, kept to spare a scan allocations: its hits (world), the cells they end in and the
+  // cells to clear (OcTreeKeys packed in one integer, sorted).
+  std::vector<octomap::point3d> ends_;
+  std::vector<std::uint64_t> occupied_, clear_;
   HeightMap grid_;
   double builtReference_ = 0.0;
   std::vector<std::array<long, 2>> columns_;  // scratch: the columns a scan changed

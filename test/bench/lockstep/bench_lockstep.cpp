@@ -7,7 +7,7 @@
 // waiting for their maps, mapping.latency), other (status, telemetry, commands).
 // One iteration: one second of simulated walking, after standing up and a second of walking.
 // BM_LockstepWalkWithoutLiveMap: the same with mapping.enabled false, the control pipeline alone
-// (the lidar's OctoMap insertion costs about 10 ms of CPU per scan, 10 scans a second, on cores
+// (the lidar's OctoMap insertion costs about 2 ms of CPU per scan, 10 scans a second, on cores
 // the loop and the planner share). BM_LockstepWalkMujoco: the same on the MuJoCo backend (where its
 // plugin is built).
 #include <benchmark/benchmark.h>
