@@ -14,12 +14,11 @@
 // the grid. Scans in the world frame (ABI kWorld) are inserted as they are.
 //
 // Real time: the mapping thread is background work at the lowest normal priority (nice 19). An
-// insertion takes 20-60 ms of CPU per scan on an idle host, and at 10 scans a second it would
-// take a third of a core to all of it on a loaded one; beside the loop and the planner (real-time
-// priority when the host grants it, normal otherwise, as on CI and in containers) and the
-// planner's linearisation team it must only take what they leave. A map that comes late is
-// seen (scans skipped, the scan-to-planner latency in `map info`); a plan that comes late damps
-// the robot.
+// insertion takes about 2 ms of CPU per scan on an idle host (BM_LiveMapScan at 4 cm), more on
+// a loaded one; beside the loop and the planner (real-time priority when the host grants it,
+// normal otherwise, as on CI and in containers) and the planner's linearisation team it must
+// only take what they leave. A map that comes late is seen (scans skipped, the
+// scan-to-planner latency in `map info`); a plan that comes late damps the robot.
 //
 // Lockstep (deterministic, as the planner's slot is): the map of a scan handed off at t_k is
 // due at t_k + mapping.latency; the loop waits for it then if it is not there yet and from then
@@ -92,8 +91,9 @@ class TerrainMapper {
 
   const MappingSettings& settings() const { return settings_; }
   /// Starts the mapping thread (scans handed off before are inserted then). `background`: real
-  /// time, at nice 19 (see the header comment); lockstep keeps the normal priority, as the loop
-  /// waits for the map there.
+  /// time, at nice 19 (see the header comment). Lockstep, where the loop waits for the map,
+  /// keeps the starting thread's priority, or, real-time (SCHED_FIFO, a daemon under chrt),
+  /// one below it, so that the planner's team preempts it.
   void start(bool background = false);
   void stop();
 

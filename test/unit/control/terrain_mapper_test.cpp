@@ -4,6 +4,8 @@
 // and measures the scan-to-planner latency.
 #include <gtest/gtest.h>
 
+#include <pthread.h>
+#include <sched.h>
 #include <sys/resource.h>
 
 #include <cerrno>
@@ -136,31 +138,55 @@ TEST(TerrainMapper, AScanInALinkTheModelLacksIsRefusedAndSaid) {
   EXPECT_NE(info.value("problem", "").find("'velodyne'"), std::string::npos) << info.dump();
 }
 
-/// The nice of this process's thread named `name` (/proc/self/task), or -100 if none is.
-int niceOfThread(const std::string& name) {
+/// How this process's thread named `name` (/proc/self/task) is scheduled.
+struct ThreadPriority {
+  bool found = false;
+  int nice = 0;
+  int policy = SCHED_OTHER;
+  int fifo = 0;  ///< its real-time priority (SCHED_FIFO)
+};
+ThreadPriority priorityOfThread(const std::string& name) {
+  ThreadPriority p;
   for (const auto& task : std::filesystem::directory_iterator("/proc/self/task")) {
     std::ifstream comm(task.path() / "comm");
     std::string n;
     std::getline(comm, n);
     if (n != name) continue;
+    const pid_t tid = std::stoi(task.path().filename());
     errno = 0;
-    const int nice = getpriority(PRIO_PROCESS, static_cast<id_t>(std::stoi(task.path().filename())));
-    return errno == 0 ? nice : -100;
+    p.nice = getpriority(PRIO_PROCESS, static_cast<id_t>(tid));
+    sched_param param{};
+    p.policy = sched_getscheduler(tid);
+    p.found = errno == 0 && p.policy >= 0 && sched_getparam(tid, &param) == 0;
+    p.fifo = param.sched_priority;
+    return p;
   }
-  return -100;
+  return p;
 }
 
-int niceOfMappingThreadWhenStarted(TerrainMapper& mapper, bool background) {
-  mapper.start(background);
+/// Starts the mapping thread from a thread scheduled SCHED_FIFO at `fifo` (0: as this one is),
+/// and says how it ends up scheduled once it waits for scans.
+ThreadPriority mappingThreadWhenStarted(TerrainMapper& mapper, bool background, int fifo = 0) {
+  std::thread starter([&] {
+    if (fifo > 0) {
+      sched_param param{};
+      param.sched_priority = fifo;
+      pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
+    }
+    mapper.start(background);
+  });
+  starter.join();
   // The thread names itself and sets its priority first; it is then waiting for a scan.
-  int nice = -100;
+  ThreadPriority p;
   for (int i = 0; i < 2000; ++i) {
-    nice = niceOfThread("ballast-mapping");
-    if (nice != -100 && (!background || nice == TerrainMapper::kBackgroundNice)) break;
+    p = priorityOfThread("ballast-mapping");
+    const bool settled = background ? p.nice == TerrainMapper::kBackgroundNice
+                                    : fifo == 0 || p.fifo != fifo;
+    if (p.found && settled) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   }
   mapper.stop();
-  return nice;
+  return p;
 }
 
 // Real time: the mapping thread takes only the CPU the loop, the planner and its team leave
@@ -173,9 +199,32 @@ TEST(TerrainMapper, InRealTimeTheMappingThreadRunsAtTheLowestNormalPriority) {
   ASSERT_EQ(errno, 0);
   ASSERT_LT(own, TerrainMapper::kBackgroundNice) << "the test runs at nice 19 already";
   TerrainMapper lockstep(m, MappingSettings{}, nullptr);
-  EXPECT_EQ(niceOfMappingThreadWhenStarted(lockstep, false), own);
+  EXPECT_EQ(mappingThreadWhenStarted(lockstep, false).nice, own);
   TerrainMapper realtime(m, MappingSettings{}, nullptr);
-  EXPECT_EQ(niceOfMappingThreadWhenStarted(realtime, true), TerrainMapper::kBackgroundNice);
+  EXPECT_EQ(mappingThreadWhenStarted(realtime, true).nice, TerrainMapper::kBackgroundNice);
+}
+
+// A daemon under chrt: real time drops the mapping thread to the normal policy (nice 19);
+// lockstep keeps it real time, one priority below the planner's team, which it must not hold
+// off a core (at an equal FIFO priority nothing preempts it).
+TEST(TerrainMapper, UnderChrtLockstepMapsOnePriorityBelowThePlanner) {
+  sched_param param{};
+  param.sched_priority = 20;
+  bool fifoGranted = false;
+  std::thread([&] { fifoGranted = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param) == 0; })
+      .join();
+  if (!fifoGranted) GTEST_SKIP() << "SCHED_FIFO not permitted here (needs CAP_SYS_NICE)";
+  const model::Model& m = test::humanoid();
+  TerrainMapper lockstep(m, MappingSettings{}, nullptr);
+  const ThreadPriority l = mappingThreadWhenStarted(lockstep, false, 20);
+  ASSERT_TRUE(l.found);
+  EXPECT_EQ(l.policy, SCHED_FIFO);
+  EXPECT_EQ(l.fifo, 19);
+  TerrainMapper realtime(m, MappingSettings{}, nullptr);
+  const ThreadPriority r = mappingThreadWhenStarted(realtime, true, 20);
+  ASSERT_TRUE(r.found);
+  EXPECT_EQ(r.policy, SCHED_OTHER);
+  EXPECT_EQ(r.nice, TerrainMapper::kBackgroundNice);
 }
 
 }  // namespace
