@@ -73,7 +73,7 @@ const Schema<Settings> kTable({
   frame("robot.imu_frame", "imu", true, "the IMU: a URDF link, or {link: NAME, offset: [x, y, z], rpy: [r, p, y]} (m and rad, in that link's frame); it must be fixed to the floating base").needsRestart().into<&S::imu>(),
   groupMap("robot.joint_groups", "{}", "joint groups, name: [URDF joints]; every actuated joint belongs to exactly one").needsRestart().into<&S::joints, &J::groups>(),
   numberMap("robot.armature", "{}", 0, 10, "kg·m²", "reflected rotor inertia (rotor inertia times the gear ratio squared) per joint group or joint (a joint's entry wins over its group's), in the controller's model and the simulation; joints not listed: 0").needsRestart().into<&S::joints, &J::armature>(),
-  numberMap("robot.locked_joints", "{}", -2 * kPi, 2 * kPi, "rad", "joints fixed at an angle, joint: angle (m for a prismatic one): merged into their parent body in the controller's model and the simulation, in no joint group and never commanded; a hardware backend holds them with the motor's PD").needsRestart().into<&S::joints, &J::locked>(),
+  numberMap("robot.locked_joints", "{}", -2 * kPi, 2 * kPi, "rad", "joints fixed at an angle, joint: angle (m for a prismatic one): merged into their parent body in the controller's model and the simulation, in no joint group and never commanded; the socketcan backend holds a locked joint that has a motor with the motor's own PD (backend.socketcan.hold.kp)").needsRestart().into<&S::joints, &J::locked>(),
   numberMap("robot.nominal_posture", "{}", -2 * kPi, 2 * kPi, "rad", "standing posture, joint: angle; joints not listed stand at 0").into<&S::joints, &J::posture>(),
 
   // ---- control: the loop and the standing controller
@@ -433,7 +433,14 @@ Joints the controller should not move (a waist, a head, a wrist) are fixed at an
 .BR "robot.locked_joints: {joint: angle}" :
 they are merged into their parent body in the controller's model and welded in the simulation,
 and they belong to no joint group. ballast controls at most 32 joints; a URDF with more is
-refused until enough of them are locked.
+refused until enough of them are locked. On hardware a locked joint's motor, if
+.B backend.socketcan.motors
+lists one, holds it at its angle with the motor's own PD
+.RB ( hold_kp ,
+.BR hold_kd ,
+no feed\-forward), in every mode: damped, the robot keeps the joint rigid as its model and the
+simulation have it; only a fault that motor reports turns its hold into damping. A locked joint
+without a motor entry is left unpowered.
 .PP
 The URDF is read as vendors write it: CRLF line endings, mesh geometry, and
 .BR <gazebo> ,

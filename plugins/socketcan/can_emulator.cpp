@@ -27,6 +27,8 @@ void CanEmulator::reply(Motor& m) {
   r.position = m.position;
   r.velocity = m.velocity;
   r.torque = m.torque;
+  r.length = m.fault != 0 ? 8 : 6;
+  r.fault = m.fault;
   packReply(hostId_, r, m.ranges, f);
   send(fds_[static_cast<std::size_t>(m.bus)], &f, sizeof f, MSG_NOSIGNAL | MSG_DONTWAIT);
 }

@@ -5,7 +5,7 @@
 // An emulated MIT motor answers each enable, disable and zero command with its state at once,
 // and keeps the last motion command for whoever moves it (a test's kinematic model, or a
 // simulation) to read; replyAll() then sends every commanded motor's state. Faults for tests:
-// a motor can be silenced, and then stops answering altogether. Like a device on a real bus, it
+// a motor can be silenced, and then stops answering altogether, or report a fault code. Like a device on a real bus, it
 // never blocks on a full bus: a frame nobody takes is dropped.
 #pragma once
 
@@ -36,6 +36,8 @@ class CanEmulator {
     int bus = 0, id = 0;
     MotorRanges ranges;
     bool enabled = false, silent = false;
+    /// Its replies: 8 bytes with this fault code when not 0 (a driver reporting a fault).
+    int fault = 0;
     bool commanded = false;  ///< a motion command came since the last replyAll()
     MitCommand command;      ///< the last one
     double position = 0.0, velocity = 0.0, torque = 0.0;  ///< the motor's state (its side)

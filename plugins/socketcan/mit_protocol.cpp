@@ -97,13 +97,14 @@ void packReply(int hostId, const MitReply& m, const MotorRanges& r, can_frame& f
   const std::uint32_t t = packFixed(m.torque, -r.torque, r.torque, 12);
   std::memset(&f, 0, sizeof f);
   f.can_id = static_cast<canid_t>(hostId);
-  f.can_dlc = 6;
+  f.can_dlc = m.length == 8 ? 8 : 6;
   f.data[0] = static_cast<std::uint8_t>(m.motor);
   f.data[1] = static_cast<std::uint8_t>(p >> 8);
   f.data[2] = static_cast<std::uint8_t>(p & 0xFF);
   f.data[3] = static_cast<std::uint8_t>(v >> 4);
   f.data[4] = static_cast<std::uint8_t>(((v & 0xF) << 4) | (t >> 8));
   f.data[5] = static_cast<std::uint8_t>(t & 0xFF);
+  if (f.can_dlc == 8) f.data[7] = static_cast<std::uint8_t>(m.fault);
 }
 
 int replyMotor(const can_frame& f, int hostId) {
@@ -123,6 +124,8 @@ bool unpackReply(const can_frame& f, int hostId, const MotorRanges& r, MitReply&
   m.position = unpackFixed(p, -r.position, r.position, 16);
   m.velocity = unpackFixed(v, -r.velocity, r.velocity, 12);
   m.torque = unpackFixed(t, -r.torque, r.torque, 12);
+  m.length = f.can_dlc >= 8 ? 8 : 6;
+  m.fault = f.can_dlc >= 8 ? f.data[7] : 0;
   return true;
 }
 

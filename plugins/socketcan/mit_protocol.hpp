@@ -7,6 +7,8 @@
 //     byte: [p15..8][p7..0][v11..4][v3..0 kp11..8][kp7..0][kd11..4][kd3..0 t11..8][t7..0]
 //   reply (motor -> host, CAN id = host id, 6 bytes):
 //     motor id 8 | position 16 | velocity 12 | torque 12
+//   or 8 bytes, from drivers that append two (the CubeMars AK firmwares, for one):
+//     ... | byte 6: driver-specific (temperature), not read | byte 7: fault code, 0 = none
 //   special commands (8 bytes): FF FF FF FF FF FF FF FC enter motor mode (enable),
 //     ...FD exit motor mode (disable), ...FE set the current position as zero.
 //     A motor answers each with a reply.
@@ -42,6 +44,8 @@ struct MitCommand {
 struct MitReply {
   int motor = 0;
   double position = 0.0, velocity = 0.0, torque = 0.0;
+  int length = 6;  ///< bytes: 6, or 8 with a fault code
+  int fault = 0;   ///< the driver's fault code (8-byte replies), 0 = none
 };
 
 enum class MitSpecial : std::uint8_t { kEnable = 0xFC, kDisable = 0xFD, kZero = 0xFE };

@@ -24,6 +24,38 @@ std::string motorName(const MotorEntry& m) {
   return m.joint + " (" + m.bus + " id " + std::to_string(m.id) + ")";
 }
 
+/// The key a motor's setting was given at: its entry's, else the section-wide default's.
+std::string keyOf(const SocketcanSettings& s, const MotorEntry& m, const char* entryKey,
+                  const char* sectionKey) {
+  const std::string key = "motors." + m.joint + "." + entryKey;
+  return s.location.count(key) ? key : sectionKey;
+}
+
+/// A locked joint's motor can hold it: gains given, within the fields' spans, the angle within
+/// the position field (else the packing would clamp them, holding somewhere else or softer).
+void checkHold(const SocketcanSettings& s, const MotorEntry& m, double angle) {
+  const std::string key = "motors." + m.joint;
+  if (!(m.hold_kp > 0.0) || !(m.hold_kd > 0.0))
+    throw SettingsError(s.where(key) + "joint " + m.joint + " is locked at " + formatNumber(angle) +
+                        " rad (robot.locked_joints) and this motor holds it there: give it " +
+                        (m.hold_kp > 0.0 ? "hold_kd" : m.hold_kd > 0.0 ? "hold_kp" : "hold_kp and hold_kd") +
+                        " (or hold.kp and hold.kd for every locked joint's motor), or leave its "
+                        "motor out of motors to leave it unpowered");
+  if (m.hold_kp > m.ranges.kp)
+    throw SettingsError(s.where(keyOf(s, m, "hold_kp", "hold.kp")) + formatNumber(m.hold_kp) +
+                        " is beyond motor " + m.joint + "'s kp field (" +
+                        formatNumber(m.ranges.kp) + ")");
+  if (m.hold_kd > m.ranges.kd)
+    throw SettingsError(s.where(keyOf(s, m, "hold_kd", "hold.kd")) + formatNumber(m.hold_kd) +
+                        " is beyond motor " + m.joint + "'s kd field (" +
+                        formatNumber(m.ranges.kd) + ")");
+  const double p = m.direction * (angle - m.offset);
+  if (std::abs(p) > m.ranges.position)
+    throw SettingsError(s.where(key) + "joint " + m.joint + " is locked at " + formatNumber(angle) +
+                        " rad, motor position " + formatNumber(p) + " rad, beyond its position field (±" +
+                        formatNumber(m.ranges.position) + ")");
+}
+
 /// What a CAN error frame says, briefly.
 const char* errorClass(const can_frame& f) {
   if (f.can_id & CAN_ERR_BUSOFF) return "bus-off";
@@ -60,42 +92,48 @@ bool SocketcanBackend::configure(const backend::Config& config, backend::Error& 
         plugin::urdfJoints(config.urdf_path ? config.urdf_path : "");
     // The joints the model holds (the profile's locks, mimic joints, joints moving no inertia)
     // are commanded by nobody. One without a motor (a finger coupled to its leader, a sensor's
-    // joint) needs nothing; holding one that has a motor needs gains of its own at the motor,
-    // not declared yet: refused rather than left without commands.
-    std::vector<std::string> held;
+    // joint) needs nothing; one with a motor is held by it at its angle (hold_kp, hold_kd).
+    std::vector<std::pair<std::string, double>> held;  // joint, locked angle
     for (int i = 0; i < config.num_joint_models; ++i)
       if (config.joints && config.joints[i].locked && config.joints[i].name)
-        held.emplace_back(config.joints[i].name);
-    // A motor for every movable joint not held, in URDF order; no motor for anything else.
+        held.emplace_back(config.joints[i].name, config.joints[i].locked_position);
+    auto heldAt = [&](const std::string& joint) {
+      return std::find_if(held.begin(), held.end(), [&](const auto& h) { return h.first == joint; });
+    };
+    // A motor for every movable joint not held, in URDF order, then the held joints' motors; no
+    // motor for anything else.
     motors_.clear();
+    std::vector<Motor> holding;
     for (const plugin::UrdfJoint& j : joints) {
       if (!j.movable) continue;
       const auto it = std::find_if(settings_.motors.begin(), settings_.motors.end(),
                                    [&](const MotorEntry& m) { return m.joint == j.name; });
-      if (std::find(held.begin(), held.end(), j.name) != held.end()) {
-        if (it != settings_.motors.end())
-          throw SettingsError(settings_.where("motors." + j.name) + "joint " + j.name +
-                              " is held fixed by the model (robot.locked_joints, or the URDF's "
-                              "mimic or massless joint): this backend cannot hold a motor at an "
-                              "angle yet; unlock the joint or leave its motor out");
-        continue;
-      }
-      if (it == settings_.motors.end())
+      const auto lock = heldAt(j.name);
+      if (lock == held.end() && it == settings_.motors.end())
         throw SettingsError(settings_.where("motors") + "joint " + j.name + " of " +
                             config.urdf_path + " has no motor (give motors." + j.name +
                             ": {bus: ..., id: ..., torque: ...})");
+      if (it == settings_.motors.end()) continue;
       Motor m;
       m.entry = *it;
       m.effort = j.effort > 0.0 ? j.effort : m.entry.ranges.torque;
-      motors_.push_back(m);
+      if (lock != held.end()) {
+        checkHold(settings_, m.entry, lock->second);
+        m.held = true;
+        m.lockedAt = lock->second;
+        holding.push_back(m);
+      } else {
+        motors_.push_back(m);
+      }
     }
+    commanded_ = motors_.size();
+    motors_.insert(motors_.end(), holding.begin(), holding.end());
     for (const MotorEntry& m : settings_.motors)
       if (std::none_of(motors_.begin(), motors_.end(),
-                       [&](const Motor& x) { return x.entry.joint == m.joint; }) &&
-          std::find(held.begin(), held.end(), m.joint) == held.end())
+                       [&](const Motor& x) { return x.entry.joint == m.joint; }))
         throw SettingsError(settings_.where("motors." + m.joint) + std::string(config.urdf_path) +
                             " has no movable joint " + m.joint);
-    if (static_cast<int>(motors_.size()) > backend::kMaxJoints)
+    if (static_cast<int>(commanded_) > backend::kMaxJoints)
       throw SettingsError(settings_.where("motors") + "more motors than the ABI's " +
                           std::to_string(backend::kMaxJoints) + " joints");
 
@@ -126,8 +164,8 @@ bool SocketcanBackend::configure(const backend::Config& config, backend::Error& 
     std::snprintf(caps_.name, sizeof caps_.name, "socketcan");
     caps_.simulation = false;
     caps_.lockstep = allEmulated;
-    caps_.num_joints = static_cast<int>(motors_.size());
-    for (std::size_t j = 0; j < motors_.size(); ++j)
+    caps_.num_joints = static_cast<int>(commanded_);
+    for (std::size_t j = 0; j < commanded_; ++j)
       std::snprintf(caps_.joint_names[j], backend::kNameLength, "%s", motors_[j].entry.joint.c_str());
   } catch (const std::exception& e) {
     buses_.clear();
@@ -185,6 +223,7 @@ bool SocketcanBackend::drain() {
       m.q = m.entry.offset + m.entry.direction * r.position;
       m.dq = m.entry.direction * r.velocity;
       m.tau = m.entry.direction * r.torque;
+      m.fault = settings_.fault_code ? r.fault : 0;
       m.lastReply = t;
       m.replied = true;
     }
@@ -213,7 +252,8 @@ std::string SocketcanBackend::motorList(Missing missing) const {
   int listed = 0, more = 0;
   for (const Motor& m : motors_) {
     if (!missing(m)) continue;
-    if (listed < 6) list += (listed++ ? ", " : "") + motorName(m.entry);
+    if (listed < 6)
+      list += (listed++ ? ", " : "") + motorName(m.entry) + (m.held ? " holding its locked joint" : "");
     else ++more;
   }
   if (more > 0) list += " and " + std::to_string(more) + " more";
@@ -271,7 +311,7 @@ bool SocketcanBackend::start(backend::Error& error) {
   running_ = false;
   lastImu_ = -1.0;
   for (BusState& b : busState_) b = BusState{};
-  for (Motor& m : motors_) m.lastReply = -1.0;
+  for (Motor& m : motors_) m.lastReply = -1.0, m.fault = 0;
   can_frame f;
   for (CanBus& bus : buses_)  // what was on the buses before is not about this run
     while (bus.receive(f)) {
@@ -287,6 +327,9 @@ bool SocketcanBackend::start(backend::Error& error) {
     return failWith("socketcan: no answer to the enable command within " +
                     formatNumber(settings_.enable_timeout) + " s from " +
                     motorList(silent) + ": check power, wiring, ids and bus bit rate" + busTrouble());
+  if (std::any_of(motors_.begin(), motors_.end(), [](const Motor& m) { return m.fault != 0; }))
+    return failWith("socketcan: motors report a fault code when enabled (the driver's; see its "
+                    "manual): " + motorList([](const Motor& m) { return m.fault != 0; }) + busTrouble());
   if (settings_.zero_on_start && !sequence(MitSpecial::kZero, settings_.enable_timeout))
     return failWith("socketcan: no answer to the zero command from " + motorList(silent) + busTrouble());
   if (settings_.imu_enabled &&
@@ -309,7 +352,10 @@ void SocketcanBackend::beginRun() {
   start_ = monotonicNow();
   pacer_.start(period_);
   running_ = true;
-  for (Motor& m : motors_) m.lastReply = 0.0;
+  for (Motor& m : motors_) {
+    m.lastReply = 0.0;
+    m.holdFrom = m.q;  // what the enable sequence read: the hold starts where the joint is
+  }
   if (settings_.imu_enabled) lastImu_ = 0.0;
 }
 
@@ -329,6 +375,17 @@ Status SocketcanBackend::read(backend::Sensors& s) {
                   timeout * 1e3, motorList(late).c_str(), busTrouble().c_str());
     return fault(message);
   }
+  if (const auto bad = std::find_if(motors_.begin(), motors_.end(),
+                                    [](const Motor& m) { return m.fault != 0; });
+      bad != motors_.end()) {
+    std::snprintf(message, sizeof message,
+                  "socketcan: motor %s (%s id %d) reports fault code %d (the driver's; see its "
+                  "manual)%s%s",
+                  bad->entry.joint.c_str(), bad->entry.bus.c_str(), bad->entry.id, bad->fault,
+                  bad->held ? "; it holds the locked joint, and is damped now" : "",
+                  busTrouble().c_str());
+    return fault(message);
+  }
   if (settings_.imu_enabled && t - lastImu_ > settings_.imu_timeout) {
     std::snprintf(message, sizeof message,
                   "socketcan: the IMU (%s id %d) sent no sample for more than %.1f ms (imu.timeout)%s",
@@ -340,8 +397,8 @@ Status SocketcanBackend::read(backend::Sensors& s) {
   // replies: each is younger than reply_timeout, checked above.
   s.time = t;
   s.sequence = ++sequence_;
-  s.num_joints = static_cast<int>(motors_.size());
-  for (std::size_t j = 0; j < motors_.size(); ++j) {
+  s.num_joints = static_cast<int>(commanded_);
+  for (std::size_t j = 0; j < commanded_; ++j) {
     s.q[j] = motors_[j].q;
     s.dq[j] = motors_[j].dq;
     s.tau[j] = motors_[j].tau;
@@ -362,17 +419,17 @@ Status SocketcanBackend::read(backend::Sensors& s) {
 Status SocketcanBackend::write(const backend::Commands& commands) {
   if (!started_) return fault("socketcan: write() on a backend that is not started");
   if (!running_) beginRun();
-  if (commands.num_joints != static_cast<int>(motors_.size())) {
+  if (commands.num_joints != static_cast<int>(commanded_)) {
     char message[160];
     std::snprintf(message, sizeof message, "socketcan: commands for %d joints, the robot has %zu",
-                  commands.num_joints, motors_.size());
+                  commands.num_joints, commanded_);
     return fault(message);
   }
   can_frame f;
   imuSamplesAtWrite_ = imu_.samples();
   for (BusState& b : busState_) b.failedThisTick = false;
   const char* notFinite = nullptr;
-  for (std::size_t j = 0; j < motors_.size(); ++j) {
+  for (std::size_t j = 0; j < commanded_; ++j) {
     Motor& m = motors_[j];
     const backend::JointCommand& c = commands.joint[j];
     MitCommand mc;
@@ -389,6 +446,19 @@ Status SocketcanBackend::write(const backend::Commands& commands) {
     } else {
       notFinite = m.entry.joint.c_str();  // limp: nothing but zeros for this motor
     }
+    clamped_ += static_cast<std::uint64_t>(packCommand(m.entry.id, mc, m.entry.ranges, f));
+    m.replied = false;
+    send(m.entry.busIndex, f);
+  }
+  // The locked joints' motors hold them whatever the commands say (socketcan_backend.hpp).
+  const double ramp = settings_.hold_ramp > 0.0 ? std::min(1.0, clock() / settings_.hold_ramp) : 1.0;
+  for (std::size_t j = commanded_; j < motors_.size(); ++j) {
+    Motor& m = motors_[j];
+    const double target = m.holdFrom + ramp * (m.lockedAt - m.holdFrom);
+    MitCommand mc;
+    mc.position = m.entry.direction * (target - m.entry.offset);
+    mc.kp = m.fault != 0 ? 0.0 : m.entry.hold_kp;
+    mc.kd = m.entry.hold_kd;
     clamped_ += static_cast<std::uint64_t>(packCommand(m.entry.id, mc, m.entry.ranges, f));
     m.replied = false;
     send(m.entry.busIndex, f);

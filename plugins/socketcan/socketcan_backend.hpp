@@ -8,13 +8,24 @@
 //              zero_on_start then zeroes them; the IMU must have sent a sample. The run's clock
 //              and timeouts start at the first tick
 //   read       drain every bus without blocking: replies update their motor, IMU frames build
-//              samples; a motor or IMU silent for longer than its timeout is a fault naming it
-//              (the daemon damps); a tick without a new frame reuses the last ones, each younger
-//              than its timeout (one late or lost frame is not a fall)
+//              samples; a motor or IMU silent for longer than its timeout, or a motor whose
+//              reply carries a fault code, is a fault naming it (the daemon damps); a tick
+//              without a new frame reuses the last ones, each younger than its timeout (one late
+//              or lost frame is not a fall)
 //   write      one command frame per motor, each value clamped to the motor's range (counted)
 //              and the torque to the joint's URDF effort too; always sent, faulted or not (the
 //              daemon's damping must reach the motors); a bus refusing frames for longer than
-//              reply_timeout is a fault
+//              reply_timeout is a fault. The motors of locked joints get their hold (below)
+//
+// Locked joints (Config::joints[].locked): not the robot's joints (capabilities(), Sensors,
+// Commands), but a locked joint's motor, if the section gives it one, holds it at the locked
+// angle with its own PD (hold_kp, hold_kd, no feed-forward), its target ramped from where the
+// joint was at the first tick over hold.ramp. It holds in every mode: the daemon's damping is
+// for the joints it controls, and a joint it takes as rigid (as the simulation welds it) stays
+// rigid while the robot is damped down; the hold's command depends on nothing the controller
+// computes, so no controller fault can make it wrong. Only a fault of that motor (a fault code
+// in its reply) turns its hold into damping (kp 0, hold_kd). Enable, disable and the reply
+// timeouts cover these motors like every other.
 //   advance    real time: sleep to the next deadline (lateness reported, skipped periods after a
 //              stall: tick_pacer.hpp); lockstep, possible
 //              only on emulated buses (fd:N): wait for every motor's reply and the IMU's sample
@@ -74,6 +85,10 @@ class SocketcanBackend final : public backend::Backend {
     double q = 0.0, dq = 0.0, tau = 0.0;  ///< joint side, from the last reply
     double lastReply = -1.0;              ///< backend clock, s; < 0: never
     bool replied = false;                 ///< since the last command
+    int fault = 0;                        ///< the fault code of its last reply (0: none)
+    bool held = false;                    ///< a locked joint's: holds it, commanded by nobody
+    double lockedAt = 0.0;                ///< held: the locked angle (joint side)
+    double holdFrom = 0.0;                ///< held: where the joint was at the first tick
   };
   struct BusState {
     const char* error = nullptr;  ///< the last error frame's class (static text)
@@ -106,7 +121,9 @@ class SocketcanBackend final : public backend::Backend {
   backend::Error lastError_;
   std::vector<CanBus> buses_;
   std::vector<BusState> busState_;
-  std::vector<Motor> motors_;                         // in joint (URDF) order
+  /// The robot's joints' motors in joint (URDF) order, then the locked joints' (held).
+  std::vector<Motor> motors_;
+  std::size_t commanded_ = 0;                         // motors_[0, commanded_): the robot's joints
   std::vector<std::array<std::int16_t, 256>> byId_;  // per bus: motor index by CAN id, -1 none
   ImuAssembler imu_;
   double lastImu_ = -1.0;

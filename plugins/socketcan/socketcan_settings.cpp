@@ -16,7 +16,8 @@ using namespace schema;  // the row declarations
 
 // A motor entry's keys, and the ranges it may set (NaN until filled from ranges.*).
 const std::vector<std::string> kMotorKeys = {"bus", "id", "position", "velocity", "torque",
-                                             "kp", "kd", "direction", "offset"};
+                                             "kp", "kd", "direction", "offset", "hold_kp",
+                                             "hold_kd"};
 
 void parseMotors(S& s, const YAML::Node& node, const schema::Cursor& c) {
   s.motors.clear();
@@ -56,6 +57,8 @@ void parseMotors(S& s, const YAML::Node& node, const schema::Cursor& c) {
       motor.direction = d;
     }
     if (m["offset"]) motor.offset = c.number(m["offset"], -1000, 1000, key + ".offset");
+    motor.hold_kp = range("hold_kp", 0.1, 1e5);
+    motor.hold_kd = range("hold_kd", 0.01, 1e4);
     s.motors.push_back(motor);
   }
 }
@@ -78,6 +81,7 @@ constexpr const char* kBuses = "Buses";
 constexpr const char* kImu = "IMU";
 constexpr const char* kRanges = "Motor ranges (defaults of every motor's)";
 constexpr const char* kMotors = "Motors";
+constexpr const char* kHold = "Locked joints (held by their motors)";
 
 // clang-format off
 const Schema<SocketcanSettings> kSchema({
@@ -100,7 +104,11 @@ const Schema<SocketcanSettings> kSchema({
   number("ranges.torque", "0", 0, 10000, "", "±N·m of the torque field: the motor firmware's T_MAX (0: each motor must give its own)").inGroup(kRanges).into<&S::ranges_torque>(),
   number("ranges.kp", "500", 0.1, 1e5, "", "N·m/rad the kp field spans from 0").inGroup(kRanges).into<&S::ranges_kp>(),
   number("ranges.kd", "5", 0.01, 1e4, "", "N·m·s/rad the kd field spans from 0").inGroup(kRanges).into<&S::ranges_kd>(),
-  custom("motors", "{}", "URDF joint -> {bus, id, position, velocity, torque, kp, kd, direction (1 or -1), offset (rad)}; every movable joint needs one").inGroup(kMotors).custom<S>(&parseMotors),
+  flag("fault_code", "true", "an 8-byte reply's last byte is the motor driver's fault code, as drivers that append temperature and fault to the 6-byte reply send it: a code other than 0 is a fault naming the motor and the code (damp); 6-byte replies carry none").inGroup(kMotors).into<&S::fault_code>(),
+  custom("motors", "{}", "URDF joint -> {bus, id, position, velocity, torque, kp, kd, direction (1 or -1), offset (rad), hold_kp, hold_kd}; every movable joint needs one, but a locked joint (robot.locked_joints) may have none").inGroup(kMotors).custom<S>(&parseMotors),
+  number("hold.kp", "0", 0, 1e5, "", "N·m/rad: the motor of a joint in robot.locked_joints holds it at the locked angle with its own PD, this stiff (a motor's hold_kp overrides it; 0: each such motor must give hold_kp); no feed-forward, every tick, in every mode (damped too, like the joint welded in simulation), unless the motor reports a fault: then it is damped with hold_kd").inGroup(kHold).into<&S::hold_kp>(),
+  number("hold.kd", "0", 0, 1e4, "", "N·m·s/rad: the hold's damping (a motor's hold_kd overrides it; 0: each such motor must give hold_kd)").inGroup(kHold).into<&S::hold_kd>(),
+  number("hold.ramp", "1", 0, 60, "", "s over which a held motor's target moves from where its joint is at the first tick to the locked angle (0: at once)").inGroup(kHold).into<&S::hold_ramp>(),
   // Across keys (the motors' own checks follow in finish()).
   R{"buses", [](const S& s) { return s.buses.empty() ? std::string("needs at least one bus") : ""; }},
   R{"buses", [](const S& s) {
@@ -155,6 +163,8 @@ void finish(S& s) {
                           "firmware's T_MAX in N·m (or give ranges.torque for every motor)");
     if (std::isnan(r.kp)) r.kp = s.ranges_kp;
     if (std::isnan(r.kd)) r.kd = s.ranges_kd;
+    if (std::isnan(m.hold_kp)) m.hold_kp = s.hold_kp;
+    if (std::isnan(m.hold_kd)) m.hold_kd = s.hold_kd;
   }
 }
 

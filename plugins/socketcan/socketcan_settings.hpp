@@ -12,6 +12,7 @@
 //   motors:
 //     left_hip_yaw: {bus: can0, id: 1}
 //     left_knee: {bus: can0, id: 4, torque: 300, direction: -1, offset: 0.1}
+//     waist_yaw: {bus: can1, id: 9, hold_kp: 200, hold_kd: 4}   # in robot.locked_joints
 //     ...
 //
 // Every key with its type, default, bounds and meaning: ballast-profile(5), section
@@ -21,6 +22,12 @@
 // torque follow the direction. The ranges must be the motor firmware's own (P_MAX, V_MAX,
 // T_MAX, KP_MAX, KD_MAX): a wrong span scales every command and reading by its ratio. Commands
 // are clamped to them before packing, and the torque to the joint's URDF effort limit too.
+//
+// A joint the profile locks (robot.locked_joints, Config::joints[].locked) is no joint of the
+// controller's, but its motor, if it has one, holds it at the locked angle with the motor's own
+// PD: hold_kp, hold_kd (per motor, or hold.kp and hold.kd for all), no feed-forward, every tick,
+// in every mode. The target moves from where the joint is at the first tick to the locked angle
+// over hold.ramp seconds.
 //
 // Bus time: a tick sends every motor an 8-byte command and gets a 6-byte reply (111 + 95 bits
 // on classic CAN, without bit stuffing), and the IMU's bus carries its three 8-byte frames; at
@@ -46,6 +53,9 @@ struct MotorEntry {
   MotorRanges ranges;
   double direction = 1.0;
   double offset = 0.0;
+  /// A locked joint's motor (robot.locked_joints) holds it with these gains; unset: hold.kp and
+  /// hold.kd (0 there: none, refused for a locked joint).
+  double hold_kp = 0.0, hold_kd = 0.0;
 };
 
 inline constexpr int kMaxBuses = 16;
@@ -62,6 +72,8 @@ struct SocketcanSettings : schema::Locations {
   int imu_id;
   double imu_timeout;
   double ranges_position, ranges_velocity, ranges_torque, ranges_kp, ranges_kd;
+  double hold_kp, hold_kd, hold_ramp;
+  bool fault_code;
   /// In the order given, each one's unset ranges from ranges.*.
   std::vector<MotorEntry> motors;
   int imuBusIndex = 0;

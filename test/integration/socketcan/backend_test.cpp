@@ -401,9 +401,10 @@ TEST(SocketcanBackend, CheckFindsWhatConfigureWouldWithoutOpeningTheBuses) {
       << e.message;
 }
 
-TEST(SocketcanBackend, AJointTheModelHoldsNeedsNoMotorAndOneWithAMotorIsRefused) {
-  // The model holds the wrist yaws (the profile's locks, or a mimic finger): the section gives
-  // motors to the other 22 joints only, and the robot's joints are those 22.
+TEST(SocketcanBackend, ALockedJointNeedsNoMotorAndItsMotorNeedsHoldGainsThatFit) {
+  // The model holds the wrist yaws (the profile's locks): the section may give motors to the
+  // other 22 joints only; a motor on a locked joint needs hold gains within its fields and the
+  // locked angle within its position field.
   const std::string urdf = humanoidUrdf();
   backend::Config config;
   config.section_origin = "robot.yaml:10";
@@ -411,7 +412,7 @@ TEST(SocketcanBackend, AJointTheModelHoldsNeedsNoMotorAndOneWithAMotorIsRefused)
   std::vector<backend::JointModel> models(2);
   models[0].name = "left_wrist_yaw";
   models[1].name = "right_wrist_yaw";
-  for (backend::JointModel& m : models) m.locked = true;
+  for (backend::JointModel& m : models) m.locked = true, m.locked_position = 0.4;
   config.joints = models.data();
   config.num_joint_models = 2;
   std::string section =
@@ -425,16 +426,167 @@ TEST(SocketcanBackend, AJointTheModelHoldsNeedsNoMotorAndOneWithAMotorIsRefused)
     ++id;
   }
   ASSERT_EQ(id, 22);
-  config.section_yaml = section.c_str();
-  backend::Error e;
-  EXPECT_TRUE(SocketcanBackend::check(config, e)) << e.message;
-  // A motor on a held joint: refused at its entry.
-  const std::string withMotor = section + "  left_wrist_yaw: {bus: nocan7, id: 9}\n";
-  config.section_yaml = withMotor.c_str();
-  EXPECT_FALSE(SocketcanBackend::check(config, e));
-  EXPECT_NE(std::string(e.message).find("joint left_wrist_yaw is held fixed by the model"),
-            std::string::npos)
-      << e.message;
+  auto checked = [&](const std::string& yaml) {
+    config.section_yaml = yaml.c_str();
+    backend::Error e;
+    return SocketcanBackend::check(config, e) ? std::string() : std::string(e.message);
+  };
+  EXPECT_EQ(checked(section), "");
+  // Without gains: refused at its entry, saying what to give.
+  EXPECT_EQ(checked(section + "  left_wrist_yaw: {bus: nocan7, id: 9}\n"),
+            "robot.yaml:36:3: motors.left_wrist_yaw: joint left_wrist_yaw is locked at 0.4 rad "
+            "(robot.locked_joints) and this motor holds it there: give it hold_kp and hold_kd (or "
+            "hold.kp and hold.kd for every locked joint's motor), or leave its motor out of motors "
+            "to leave it unpowered");
+  const std::string held = section + "  left_wrist_yaw: {bus: nocan7, id: 9, hold_kp: 30, hold_kd: 1}\n";
+  EXPECT_EQ(checked(held), "");
+  EXPECT_EQ(checked(section + "  left_wrist_yaw: {bus: nocan7, id: 9, hold_kd: 1}\nhold: {kp: 30}\n"), "");
+  EXPECT_EQ(checked(section + "  left_wrist_yaw: {bus: nocan7, id: 9, hold_kp: 30}\n"),
+            "robot.yaml:36:3: motors.left_wrist_yaw: joint left_wrist_yaw is locked at 0.4 rad "
+            "(robot.locked_joints) and this motor holds it there: give it hold_kd (or hold.kp and "
+            "hold.kd for every locked joint's motor), or leave its motor out of motors to leave it "
+            "unpowered");
+  // Gains the fields cannot carry, an angle beyond the position field: refused, not clamped.
+  EXPECT_EQ(checked(section + "  left_wrist_yaw: {bus: nocan7, id: 9, hold_kp: 600, hold_kd: 1}\n"),
+            "robot.yaml:36:49: motors.left_wrist_yaw.hold_kp: 600 is beyond motor left_wrist_yaw's "
+            "kp field (500)");
+  EXPECT_NE(checked("hold: {kp: 30, kd: 20}\n" + section + "  left_wrist_yaw: {bus: nocan7, id: 9}\n")
+                .find("robot.yaml:10:16: hold.kd: 20 is beyond motor left_wrist_yaw's kd field (5)"),
+            std::string::npos);
+  EXPECT_NE(checked(section + "  left_wrist_yaw: {bus: nocan7, id: 9, hold_kp: 30, hold_kd: 1, "
+                              "position: 0.3}\n")
+                .find("motors.left_wrist_yaw: joint left_wrist_yaw is locked at 0.4 rad, motor "
+                      "position 0.4 rad, beyond its position field (±0.3)"),
+            std::string::npos);
+}
+
+/// The rig with both wrist yaws locked (left at 0.3, right at -0.2 through a motor mounted the
+/// other way round with an offset) and held by their motors.
+struct LockedWristsRig : Rig {
+  LockedWristsRig()
+      : Rig(/*lockstep=*/true, "hold: {kp: 40, kd: 1.5, ramp: 0.05}\n",
+            {{"right_wrist_yaw", "direction: -1, offset: 0.1"}}) {
+    models[0].name = "left_wrist_yaw";
+    models[0].locked_position = 0.3;
+    models[1].name = "right_wrist_yaw";
+    models[1].locked_position = -0.2;
+    for (backend::JointModel& m : models) m.locked = true;
+    config.joints = models.data();
+    config.num_joint_models = 2;
+  }
+  backend::Commands commands(double q, double kp, double kd) const {
+    backend::Commands c;
+    c.num_joints = 22;
+    for (int j = 0; j < c.num_joints; ++j) c.joint[j].q_des = q, c.joint[j].kp = kp, c.joint[j].kd = kd;
+    return c;
+  }
+  /// The last command each motor got, by joint.
+  std::map<std::string, MitCommand> lastCommands() {
+    std::map<std::string, MitCommand> out;
+    robot->with([&](CanEmulator& e) {
+      for (const std::string& j : map.joints) out[j] = e.motor(robot->motorOf(j)).command;
+    });
+    return out;
+  }
+  std::vector<backend::JointModel> models = std::vector<backend::JointModel>(2);
+};
+
+TEST(SocketcanBackend, ALockedJointsMotorHoldsItAtItsAngleWhateverTheControllerCommands) {
+  LockedWristsRig rig;
+  rig.robot->with([&](CanEmulator& e) {  // every joint somewhere of its own
+    for (std::size_t j = 0; j < rig.map.joints.size(); ++j) e.motor(static_cast<int>(j)).position = 0.01 * j;
+  });
+  backend::Error error;
+  ASSERT_TRUE(rig.configureAndStart(error)) << error.message;
+  // The robot's joints are the other 22, in URDF order; they read their own motors.
+  const backend::Capabilities& caps = rig.can.capabilities();
+  ASSERT_EQ(caps.num_joints, 22);
+  std::vector<std::string> names;
+  for (int j = 0; j < caps.num_joints; ++j) names.push_back(caps.joint_names[j]);
+  std::vector<std::string> expected;
+  for (const std::string& j : rig.map.joints)
+    if (j != "left_wrist_yaw" && j != "right_wrist_yaw") expected.push_back(j);
+  EXPECT_EQ(names, expected);
+  ASSERT_EQ(rig.can.read(rig.sensors), Status::kOk);
+  ASSERT_EQ(rig.sensors.num_joints, 22);
+  for (int j = 0; j < 22; ++j)
+    EXPECT_NEAR(rig.sensors.q[j], 0.01 * rig.robot->motorOf(names[j]), 1e-3) << names[j];
+  // The first hold is where the joint is (no jump), then the target ramps to the locked angle.
+  const backend::Commands controller = rig.commands(0.1, 50, 2);
+  ASSERT_EQ(rig.can.write(controller), Status::kOk);
+  ASSERT_EQ(rig.can.advance(), Status::kOk);
+  const double leftFrom = 0.01 * rig.robot->motorOf("left_wrist_yaw");
+  const double step = 25.0 / 65535;  // the position field's resolution
+  EXPECT_NEAR(rig.lastCommands()["left_wrist_yaw"].position, leftFrom, 2 * step);
+  ASSERT_EQ(rig.ticks(24, controller), Status::kOk) << rig.can.lastError().message;
+  EXPECT_NEAR(rig.lastCommands()["left_wrist_yaw"].position, leftFrom + 0.5 * (0.3 - leftFrom), 0.02);
+  Status ticked = Status::kOk;  // holding allocates nothing either
+  EXPECT_EQ(ballast::test::allocationsIn([&] { ticked = rig.ticks(100, controller); }), 0);
+  ASSERT_EQ(ticked, Status::kOk) << rig.can.lastError().message;
+  auto expectHeld = [&](const std::map<std::string, MitCommand>& c, double kp) {
+    EXPECT_NEAR(c.at("left_wrist_yaw").position, 0.3, 2 * step);
+    EXPECT_NEAR(c.at("right_wrist_yaw").position, 0.3, 2 * step);  // -1 · (-0.2 - 0.1)
+    for (const char* j : {"left_wrist_yaw", "right_wrist_yaw"}) {
+      EXPECT_NEAR(c.at(j).kp, kp, 500.0 / 4095) << j;
+      EXPECT_NEAR(c.at(j).kd, 1.5, 10.0 / 4095) << j;
+      EXPECT_NEAR(c.at(j).velocity, 0.0, 90.0 / 4095) << j;
+      EXPECT_NEAR(c.at(j).torque, 0.0, 2 * 30.0 / 4095) << j;  // their span is 30 N·m
+    }
+  };
+  std::map<std::string, MitCommand> c = rig.lastCommands();
+  expectHeld(c, 40);
+  for (const std::string& j : expected) {  // the controller's joints got its commands
+    EXPECT_NEAR(c.at(j).position, 0.1, 2 * step) << j;
+    EXPECT_NEAR(c.at(j).kp, 50, 500.0 / 4095) << j;
+    EXPECT_NEAR(c.at(j).kd, 2, 10.0 / 4095) << j;
+  }
+  // The daemon damps (kd only): the locked joints stay held.
+  ASSERT_EQ(rig.ticks(3, rig.commands(0.0, 0.0, 3.0)), Status::kOk);
+  c = rig.lastCommands();
+  expectHeld(c, 40);
+  for (const std::string& j : expected) EXPECT_EQ(c.at(j).kp, 0.0) << j;
+  rig.can.stop();
+  rig.robot->stop();
+  rig.robot->with([](CanEmulator& e) {
+    for (const auto& m : e.motors()) EXPECT_EQ(m.disables, 1) << m.id;  // held ones too
+  });
+}
+
+TEST(SocketcanBackend, AMotorReportingAFaultIsAFaultThatNamesItAndAFaultyHoldIsDamped) {
+  LockedWristsRig rig;
+  backend::Error error;
+  ASSERT_TRUE(rig.configureAndStart(error)) << error.message;
+  ASSERT_EQ(rig.ticks(10, rig.commands(0.1, 50, 2)), Status::kOk) << rig.can.lastError().message;
+  rig.robot->with([&](CanEmulator& e) { e.motor(rig.robot->motorOf("left_wrist_yaw")).fault = 3; });
+  Status s = Status::kOk;
+  for (int k = 0; k < 5 && s == Status::kOk; ++k) s = rig.ticks(1, rig.commands(0.1, 50, 2));
+  ASSERT_EQ(s, Status::kFault);
+  const int id = rig.map.at.at("left_wrist_yaw").second;
+  EXPECT_EQ(std::string(rig.can.lastError().message),
+            "socketcan: motor left_wrist_yaw (" + rig.buses.spec(1) + " id " + std::to_string(id) +
+                ") reports fault code 3 (the driver's; see its manual); it holds the locked "
+                "joint, and is damped now");
+  // The daemon damps the rest; the faulty motor's hold is damped too, the healthy one holds.
+  EXPECT_EQ(rig.can.write(rig.commands(0.0, 0.0, 3.0)), Status::kOk);
+  rig.can.advance();
+  const std::map<std::string, MitCommand> c = rig.lastCommands();
+  EXPECT_EQ(c.at("left_wrist_yaw").kp, 0.0);
+  EXPECT_NEAR(c.at("left_wrist_yaw").kd, 1.5, 10.0 / 4095);
+  EXPECT_NEAR(c.at("right_wrist_yaw").kp, 40, 500.0 / 4095);
+  // A controlled joint's motor is named the same way; a fault from the start stops start().
+  LockedWristsRig other;
+  other.robot->with([&](CanEmulator& e) { e.motor(other.robot->motorOf("left_knee")).fault = 1; });
+  EXPECT_FALSE(other.configureAndStart(error));
+  EXPECT_EQ(std::string(error.message),
+            "socketcan: motors report a fault code when enabled (the driver's; see its manual): "
+            "left_knee (" + other.buses.spec(0) + " id 4)");
+  // fault_code: false reads 8-byte replies as 6-byte ones.
+  LockedWristsRig ignoring;
+  const std::string section = ignoring.section + "fault_code: false\n";
+  ignoring.config.section_yaml = section.c_str();
+  ignoring.robot->with([&](CanEmulator& e) { e.motor(ignoring.robot->motorOf("left_knee")).fault = 1; });
+  ASSERT_TRUE(ignoring.configureAndStart(error)) << error.message;
+  EXPECT_EQ(ignoring.ticks(5, ignoring.commands(0.1, 50, 2)), Status::kOk);
 }
 
 TEST(SocketcanBackend, ARealBusOnThisMachine) {

@@ -16,6 +16,7 @@ using ballast::test::Daemon;
 using ballast::test::json;
 using ballast::test::scratchDir;
 using ballast::test::writeFile;
+namespace fs = std::filesystem;
 
 // sim-flat's simulated robot: its sensors as a real robot's.
 constexpr const char* kSimSection =
@@ -24,23 +25,27 @@ constexpr const char* kSimSection =
     "imu: {gyro_bias: 0.005, accel_bias: 0.03, orientation_noise: 0.005}\n"
     "lidar: {enabled: false}\n";
 
-TEST(CanPath, BallastdStandsAndWalksTheSimulatedRobotThroughCan) {
-  const auto dir = scratchDir();
-  EmulatedBuses buses(2);
-  MotorMap map;
-  CanWorld world(buses, map, kSimSection);
-  const std::string log = (dir / "can.log").string();
-  std::string section = sectionFor(buses, map, "log: " + log + "\n");
+/// sim-flat on the socketcan backend with `section` (and `robot`, YAML under robot:).
+std::string canProfile(const fs::path& dir, const std::string& section, const std::string& robot = "") {
   // Indent the section under backend.socketcan.
   std::string indented;
   for (std::size_t at = 0, nl; at < section.size(); at = nl + 1) {
     nl = section.find('\n', at);
     indented += "    " + section.substr(at, nl - at) + "\n";
   }
-  const std::string profile = writeFile(
-      dir / "can.yaml", "extends: " + std::string(BALLAST_SOURCE_DIR) +
-                            "/profiles/sim-flat.yaml\nbackend:\n  name: socketcan\n  socketcan:\n" +
-                            indented);
+  return writeFile(dir / "can.yaml", "extends: " + std::string(BALLAST_SOURCE_DIR) +
+                                         "/profiles/sim-flat.yaml\n" +
+                                         (robot.empty() ? "" : "robot:\n" + robot) +
+                                         "backend:\n  name: socketcan\n  socketcan:\n" + indented);
+}
+
+TEST(CanPath, BallastdStandsAndWalksTheSimulatedRobotThroughCan) {
+  const auto dir = scratchDir();
+  EmulatedBuses buses(2);
+  MotorMap map;
+  CanWorld world(buses, map, kSimSection);
+  const std::string log = (dir / "can.log").string();
+  const std::string profile = canProfile(dir, sectionFor(buses, map, "log: " + log + "\n"));
   const backend::Truth start = world.truth();
   // Held (`ballast advance`): the walk starts and the robot is measured at controller times of
   // the test's, so the run is the same whatever the machine's load.
@@ -82,6 +87,60 @@ TEST(CanPath, BallastdStandsAndWalksTheSimulatedRobotThroughCan) {
     if (l.find("#FFFFFFFFFFFFFFFC") != std::string::npos) ++enables;
   EXPECT_EQ(enables, 24);
   EXPECT_GT(lines, 24 * 2 * world.ticks());
+  std::filesystem::remove_all(dir);
+}
+
+// The wrist yaws locked in the profile, their motors on the bus: the controller knows 22 joints,
+// and the motors hold the wrists at the locked angles in the simulation, which leaves them free
+// (only the motors' PD holds them). Then a held motor reports a fault: ballastd damps, naming it.
+TEST(CanPath, LockedJointsAreHeldByTheirMotorsAndAMotorFaultDampsTheRobot) {
+  const auto dir = scratchDir();
+  EmulatedBuses buses(2);
+  MotorMap map;
+  CanWorld world(buses, map, kSimSection);
+  const std::string profile = canProfile(
+      dir, sectionFor(buses, map, "hold: {kp: 20, kd: 0.5, ramp: 0.5}\n"),
+      "  locked_joints: {left_wrist_yaw: 0.3, right_wrist_yaw: -0.3}\n"
+      "  joint_groups:\n"
+      "    arms: [left_shoulder_pitch, left_shoulder_roll, left_shoulder_yaw, left_elbow,\n"
+      "           left_wrist_pitch, right_shoulder_pitch, right_shoulder_roll, right_shoulder_yaw,\n"
+      "           right_elbow, right_wrist_pitch]\n");
+  // Not held: after a backend fault the loop's clock, the backend's, stops (ballast advance
+  // would wait for ever); the steps here need no particular controller time.
+  Daemon d(dir, profile);
+  ASSERT_TRUE(d.running()) << d.log();
+  ASSERT_TRUE(d.waitFor([](const json& st) { return st["t"].get<double>() > 2.0; }, 60)) << d.log();
+  json s = d.status();
+  ASSERT_EQ(s["mode"], "stand") << s.dump() << d.log();
+  EXPECT_TRUE(s["faults"].empty()) << s["faults"];
+  const double left = world.jointPosition("left_wrist_yaw"), right = world.jointPosition("right_wrist_yaw");
+  std::printf("held wrists at %.4f and %.4f rad (locked at 0.3, -0.3)\n", left, right);
+  EXPECT_NEAR(left, 0.3, 0.02);
+  EXPECT_NEAR(right, -0.3, 0.02);
+  world.with([&](CanEmulator& e) {
+    for (const auto& [joint, target] : {std::pair{"left_wrist_yaw", 0.3}, {"right_wrist_yaw", -0.3}}) {
+      const auto [bus, id] = map.at.at(joint);
+      for (const auto& m : e.motors())
+        if (m.bus == bus && m.id == id) {
+          EXPECT_NEAR(m.command.position, target, 1e-3) << joint;
+          EXPECT_NEAR(m.command.kp, 20, 500.0 / 4095) << joint;
+          EXPECT_NEAR(m.command.kd, 0.5, 10.0 / 4095) << joint;
+          EXPECT_NEAR(m.command.torque, 0, 2 * m.ranges.torque / 4095) << joint;
+        }
+    }
+  });
+  // The left wrist's motor reports a fault code.
+  world.with([&](CanEmulator& e) {
+    const auto [bus, id] = map.at.at("left_wrist_yaw");
+    for (int i = 0; i < static_cast<int>(e.motors().size()); ++i)
+      if (e.motor(i).bus == bus && e.motor(i).id == id) e.motor(i).fault = 2;
+  });
+  EXPECT_TRUE(d.waitForMode("damp", 10)) << d.log();
+  s = d.status();
+  ASSERT_FALSE(s["faults"].empty()) << s.dump();
+  EXPECT_NE(s["faults"].dump().find("motor left_wrist_yaw"), std::string::npos) << s["faults"];
+  EXPECT_NE(s["faults"].dump().find("fault code 2"), std::string::npos) << s["faults"];
+  EXPECT_EQ(d.stop(), 0) << d.log();
   std::filesystem::remove_all(dir);
 }
 

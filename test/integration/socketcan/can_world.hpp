@@ -6,6 +6,7 @@
 #pragma once
 
 #include <atomic>
+#include <cmath>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -57,6 +58,13 @@ class CanWorld {
     f(emu_);
   }
   long ticks() const { return ticks_; }
+  /// A joint's position in the simulation (rad), between ticks.
+  double jointPosition(const std::string& joint) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    for (std::size_t i = 0; i < map_.joints.size(); ++i)
+      if (map_.joints[i] == joint) return sensors_.q[simJoint_[i]];
+    return std::nan("");
+  }
 
  private:
   void copyStateToMotors() {
