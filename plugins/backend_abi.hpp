@@ -28,8 +28,9 @@
 namespace ballast::backend {
 
 // 2: position fixes; 3: TickTiming; 4: Config::contact_points, BackendEntry::check;
-// 5: TickTiming::host_stall; 6: scans in the sensor frame (PointCloudView::frame)
-inline constexpr std::uint32_t kBackendAbiVersion = 6;
+// 5: TickTiming::host_stall; 6: scans in the sensor frame (PointCloudView::frame);
+// 7: Config::imu_frame
+inline constexpr std::uint32_t kBackendAbiVersion = 7;
 inline constexpr const char* kBackendEntrySymbol = "ballast_backend_entry";
 
 inline constexpr int kMaxJoints = 32;
@@ -89,6 +90,14 @@ struct ContactPoint {
   double position[3] = {};     ///< m, in the link's frame
 };
 
+/// A sensor's frame as the profile places it: on a URDF link, at a position and orientation in
+/// the link's frame.
+struct SensorFrame {
+  const char* link = "";   ///< URDF link
+  double position[3] = {};  ///< m, in the link's frame
+  double rpy[3] = {};       ///< rad: fixed-axis roll, pitch, yaw, as URDF writes them
+};
+
 /// What ballastd hands a backend at configure time.
 struct Config {
   const char* section_yaml = "";    ///< the profile's backend section (its own keys), YAML text
@@ -101,6 +110,9 @@ struct Config {
   int num_contacts = 0;
   /// Where each contact point is (num_contacts of them; null: at the links contact_frames name).
   const ContactPoint* contact_points = nullptr;
+  /// The IMU the controller's estimator reads (robot.imu_frame): a simulation puts its IMU there
+  /// unless its own section places it elsewhere. Null: not given (the backend's default).
+  const SensorFrame* imu_frame = nullptr;
   /// The controller's per-joint model data, one entry per movable URDF joint it knows; a
   /// joint absent here has no armature and is free.
   const JointModel* joints = nullptr;

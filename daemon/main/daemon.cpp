@@ -59,6 +59,10 @@ Daemon::Daemon(const DaemonOptions& options) {
   config.contact_frames = contacts.data();
   config.num_contacts = static_cast<int>(contacts.size());
   config.contact_points = points.data();
+  backend::SensorFrame imu;  // robot.imu_frame, for a simulation's IMU
+  imu.link = settings_.imu.link.c_str();
+  for (int k = 0; k < 3; ++k) imu.position[k] = settings_.imu.offset[k], imu.rpy[k] = settings_.imu.rpy[k];
+  config.imu_frame = &imu;
   std::vector<backend::JointModel> joints(static_cast<std::size_t>(model_->nj()));
   for (int j = 0; j < model_->nj(); ++j) {
     joints[j].name = model_->jointName[j + 1].c_str();

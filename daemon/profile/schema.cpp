@@ -416,6 +416,11 @@ robot:
 .PP
 (metres and radians in that link's frame; a contact point has no
 .BR rpy ).
+The simulations put their IMU at
+.B robot.imu_frame
+too, unless their own
+.B imu.frame
+places it elsewhere (a mounting error to simulate).
 In the controller's model such a frame is named after its role and link, e.g.
 .BR left_toe@left_ankle_roll_link ,
 the name status and telemetry show. A foot whose URDF has no collision box (meshes, or spheres

@@ -74,6 +74,17 @@ std::array<double, 4> quaternion(const std::array<double, 9>& R) {
   return q;
 }
 
+}  // namespace
+
+Transform Transform::placed(const std::array<double, 3>& p, const std::array<double, 3>& rpy) {
+  urdf::Pose pose;
+  pose.position = urdf::Vector3(p[0], p[1], p[2]);
+  pose.rotation.setFromRPY(rpy[0], rpy[1], rpy[2]);
+  return fromPose(pose);
+}
+
+namespace {
+
 std::string num(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.17g", v);

@@ -50,6 +50,8 @@ struct Transform {
   std::array<double, 9> R{1, 0, 0, 0, 1, 0, 0, 0, 1};
   std::array<double, 3> p{0, 0, 0};
 
+  /// At `p`, turned by fixed-axis roll, pitch, yaw (URDF's rpy).
+  static Transform placed(const std::array<double, 3>& p, const std::array<double, 3>& rpy);
   Transform operator*(const Transform& b) const;
   std::array<double, 3> apply(const std::array<double, 3>& v) const;  ///< R v + p
   std::array<double, 3> rotate(const std::array<double, 3>& v) const;  ///< R v

@@ -25,6 +25,7 @@ bool MujocoBackend::configure(const backend::Config& config, backend::Error& err
     WorldOptions options;
     options.urdfPath = config.urdf_path;
     const plugin::SimulatedRobot robot = plugin::simulatedRobot(config);
+    plugin::placeImuAsTheRobotsUnlessGiven(settings_, robot);
     options.contacts = robot.contacts;
     options.settings = settings_;
     options.armature = robot.armature;

@@ -64,7 +64,7 @@ struct MujocoSettings : schema::Locations {
   double joint_limit_timeconst;
 
   double encoder_resolution, joint_velocity_noise, torque_noise;
-  std::string imu_frame;
+  schema::FrameRef imu_frame;
   double imu_gyro_noise_density, imu_gyro_bias, imu_accel_noise_density, imu_accel_bias;
   double imu_orientation_noise;
 

@@ -166,7 +166,7 @@ MujocoWorld::MujocoWorld(const WorldOptions& options)
       geomContact_[static_cast<std::size_t>(mj_name2id(m_, mjOBJ_GEOM, name.c_str()))] =
           static_cast<int>(i);
   gravity_ = {s.gravity[0], s.gravity[1], s.gravity[2]};
-  imuLink_ = linkFor(s.imu_frame, "imu.frame", s);
+  imuLink_ = frameFor(s.imu_frame, "imu.frame", s);
   lidarLink_ = s.lidar_enabled ? linkFor(s.lidar_frame, "lidar.frame", s) : imuLink_;
 
   initialQ_ = plugin::initialPosture(built_.jointNames, built_.positionLimits, s.initial_posture,
@@ -197,6 +197,13 @@ MujocoWorld::LinkRef MujocoWorld::linkFor(const std::string& name, const std::st
   if (!built_.links.count(name))
     throw std::runtime_error(s.where(key) + urdfPath_ + " has no link '" + name + "'");
   return link(name);
+}
+
+MujocoWorld::LinkRef MujocoWorld::frameFor(const schema::FrameRef& ref, const std::string& key,
+                                           const MujocoSettings& s) const {
+  LinkRef l = linkFor(ref.link, key, s);
+  l.inBody = l.inBody * Transform::placed(ref.offset, ref.rpy);
+  return l;
 }
 
 double MujocoWorld::terrainHeight(double x, double y) const {

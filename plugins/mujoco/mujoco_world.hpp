@@ -136,6 +136,8 @@ class MujocoWorld {
 
   LinkRef link(const std::string& name) const;
   LinkRef linkFor(const std::string& name, const std::string& key, const MujocoSettings& s) const;
+  /// A frame on a link (a sensor's, placed by the profile).
+  LinkRef frameFor(const schema::FrameRef& ref, const std::string& key, const MujocoSettings& s) const;
   Transform linkPose(const LinkRef& link) const;
   /// 6-D velocity (angular, linear; world axes) of the link's origin.
   std::array<double, 6> linkVelocity(const LinkRef& link) const;

@@ -48,7 +48,7 @@ const Schema<SimSettings> kSchema({
   number("encoder_resolution", "0", 0, 0.1, "", "joint position quantisation (rad); 0: exact").inGroup(kSensors).into<&S::encoder_resolution>(),
   number("joint_velocity_noise", "0", 0, 10, "", "white noise σ (rad/s) on joint velocities").inGroup(kSensors).into<&S::joint_velocity_noise>(),
   number("torque_noise", "0", 0, 100, "", "white noise σ (N·m) on measured joint torques").inGroup(kSensors).into<&S::torque_noise>(),
-  frame("imu.frame", "imu", true, "the IMU: a URDF link, or {link: NAME, offset: [x, y, z], rpy: [r, p, y]} in that link's frame").inGroup(kSensors).into<&S::imu_frame>(),
+  frame("imu.frame", "imu", true, "the IMU: a URDF link, or {link: NAME, offset: [x, y, z], rpy: [r, p, y]} in that link's frame; not given: where robot.imu_frame puts the controller's (the default where ballastd gives none); given: there whatever the controller assumes, a mounting error to simulate").inGroup(kSensors).into<&S::imu_frame>(),
   number("imu.gyro_noise_density", "2.4e-4", 0, 1, "", "gyro white noise (rad/s/√Hz); σ per sample = density / √period").inGroup(kSensors).into<&S::imu_gyro_noise_density>(),
   number("imu.gyro_bias", "0", 0, 1, "", "σ (rad/s) of the per-axis gyro bias, drawn once at start").inGroup(kSensors).into<&S::imu_gyro_bias>(),
   number("imu.accel_noise_density", "1.5e-3", 0, 10, "", "accelerometer white noise (m/s²/√Hz)").inGroup(kSensors).into<&S::imu_accel_noise_density>(),

@@ -25,6 +25,7 @@ bool SimbodyBackend::configure(const backend::Config& config, backend::Error& er
     WorldOptions options;
     options.urdfPath = config.urdf_path;
     const plugin::SimulatedRobot robot = plugin::simulatedRobot(config);
+    plugin::placeImuAsTheRobotsUnlessGiven(settings_, robot);
     for (const auto& c : robot.contacts)
       options.contacts.push_back(
           ContactSpec{c.name, c.link, SimTK::Vec3(c.position[0], c.position[1], c.position[2])});

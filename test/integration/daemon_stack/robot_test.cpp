@@ -2,6 +2,8 @@
 // (urdf/generate_humanoid.py, never copies of vendors' files) and a profile alone.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -162,6 +164,50 @@ TEST(LegsOf5, RefusesToTurnAndSaysWhy) {
   EXPECT_TRUE(robot.run(1.0));
   EXPECT_EQ(robot.status().mode, control::Mode::kStand);
 }
+
+/// An IMU mounted turned and off the pelvis's origin, placed by robot.imu_frame alone: the
+/// simulation puts its IMU there (Config::imu_frame) and the estimator reads it there, so the
+/// estimate of the base follows the truth standing and walking.
+class TurnedImu : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(TurnedImu, TheEstimatorGivenTheSameFrameFollowsTheBase) {
+  const fs::path dir = fs::temp_directory_path() /
+                       ("ballast-turned-imu-" + std::to_string(getpid()) + "-" + GetParam());
+  fs::create_directories(dir);
+  const std::string profile = (dir / "robot.yaml").string();
+  std::ofstream(profile) << "extends: " << BALLAST_SOURCE_DIR << "/profiles/" << GetParam()
+                         << ".yaml\nrobot:\n  imu_frame: {link: pelvis, offset: [0.03, -0.02, 0.05], "
+                            "rpy: [0.1, 0, 1.5708]}\n";
+  {
+    DaemonStack robot(profile);
+    ASSERT_TRUE(robot.waitForMode(control::Mode::kStand, 5.0));
+    ASSERT_TRUE(robot.run(1.0));
+    ASSERT_EQ(robot.walk(0.4, 0.0, 0.0, 3.0), control::Refusal::kNone);
+    double worst[3] = {};  // position, velocity, tilt
+    for (int k = 0; k < 30; ++k) {
+      ASSERT_TRUE(robot.run(0.1)) << control::modeName(robot.status().mode);
+      const control::LoopStatus s = robot.status();
+      for (int i = 0; i < 3; ++i) {
+        worst[0] = std::max(worst[0], std::abs(s.base.position[i] - s.truth.position[i]));
+        worst[1] = std::max(worst[1], std::abs(s.base.linear_velocity[i] - s.truth.linear_velocity[i]));
+      }
+      for (int i = 0; i < 2; ++i) worst[2] = std::max(worst[2], std::abs(s.base.rpy[i] - s.truth.rpy[i]));
+    }
+    const control::LoopStatus s = robot.status();
+    std::printf("%s: walked %.2f m; estimate off by at most %.3f m, %.3f m/s, %.4f rad of tilt\n",
+                GetParam(), s.truth.position[0], worst[0], worst[1], worst[2]);
+    EXPECT_GT(s.truth.position[0], 0.8);
+    EXPECT_LT(worst[0], 0.05);
+    EXPECT_LT(worst[1], 0.15);
+    EXPECT_LT(worst[2], 0.02);
+  }
+  fs::remove_all(dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(Simulations, TurnedImu, ::testing::Values("sim-flat", "sim-flat-mujoco"),
+                         [](const ::testing::TestParamInfo<const char*>& info) {
+                           return std::string(info.param) == "sim-flat" ? "simbody" : "mujoco";
+                         });
 
 /// ballastd --describe-robot's starter profile, as a user saves it, runs the robot: it passes the
 /// checks of a start and the robot stands up and stands on the contact points it placed.

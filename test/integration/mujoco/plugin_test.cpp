@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "backend/plugin_loader.hpp"
+#include "test/integration/imu_frame_check.hpp"
 #include "terrain_maps.hpp"
 #include "test/integration/simbody/sim_test_support.hpp"
 
@@ -112,6 +113,10 @@ TEST(MujocoPlugin, TheSameSeedRepeatsBitForBitAnotherSeedChangesOnlyTheNoise) {
   }
   EXPECT_EQ(differentImu, 300);
   EXPECT_NE(a.scans, c.scans);
+}
+
+TEST(MujocoPlugin, TheImuIsWhereTheRobotsImuFrameIsUnlessTheSectionPlacesIt) {
+  ballast::test::expectTheImuWhereConfigPutsIt(*mujocoPlugin());
 }
 
 TEST(MujocoPlugin, ConfigureErrorsNameTheFileLineAndKey) {

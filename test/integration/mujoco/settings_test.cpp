@@ -28,7 +28,7 @@ TEST(MujocoSettings, EmptySectionGivesTheTableDefaults) {
   EXPECT_EQ(s.motor_latency_ticks, 0);
   EXPECT_TRUE(s.lidar_enabled);
   EXPECT_EQ(s.lidar_horizontal_rays, 180);
-  EXPECT_EQ(s.imu_frame, "imu");
+  EXPECT_EQ(s.imu_frame.link, "imu");
   EXPECT_EQ(s.initial_posture, "stand");
   EXPECT_TRUE(s.initial_joints.empty());
   EXPECT_TRUE(s.terrain_map.empty());

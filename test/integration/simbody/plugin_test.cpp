@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include "backend/plugin_loader.hpp"
+#include "test/integration/imu_frame_check.hpp"
 #include "terrain_maps.hpp"
 #include "test/integration/simbody/sim_test_support.hpp"
 
@@ -109,6 +110,10 @@ TEST(SimbodyPlugin, TheSameSeedRepeatsBitForBitAnotherSeedChangesOnlyTheNoise) {
   }
   EXPECT_EQ(differentImu, 300);
   EXPECT_NE(a.scans, c.scans);
+}
+
+TEST(SimbodyPlugin, TheImuIsWhereTheRobotsImuFrameIsUnlessTheSectionPlacesIt) {
+  ballast::test::expectTheImuWhereConfigPutsIt(*simbodyPlugin());
 }
 
 TEST(SimbodyPlugin, ConfigureErrorsNameTheFileLineAndKey) {
