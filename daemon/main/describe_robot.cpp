@@ -3,6 +3,8 @@
 #include <fmt/format.h>
 #include <urdf_parser/urdf_parser.h>
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -38,11 +40,53 @@ std::string vec(const Vec3<double>& v) {
 }
 
 /// Toe and heel of a foot link, in its frame: the bottom face of its largest collision box (at
-/// the zero posture, world x forward), or a guess around its origin (found = false).
+/// the zero posture, world x forward), its spheres, or a guess (found = false).
 struct Sole {
   Vec3<double> toe, heel;
   bool found = false;
 };
+
+/// Front and back of the lowest face of a box (`size`, placed at oMb in the world), on its centre
+/// line, in the frame of the link at oMl.
+Sole bottomOfBox(const SE3<double>& oMb, const Vec3<double>& size, const SE3<double>& oMl) {
+  Vec3<double> lo = Vec3<double>::Constant(std::numeric_limits<double>::infinity());
+  Vec3<double> hi = -lo;
+  for (int k = 0; k < 8; ++k) {
+    const Vec3<double> corner((k & 1 ? 0.5 : -0.5) * size.x(), (k & 2 ? 0.5 : -0.5) * size.y(),
+                              (k & 4 ? 0.5 : -0.5) * size.z());
+    const Vec3<double> w = oMb.act(corner);
+    lo = lo.cwiseMin(w);
+    hi = hi.cwiseMax(w);
+  }
+  const double y = oMb.p.y();
+  return Sole{oMl.actInv(Vec3<double>(hi.x(), y, lo.z())), oMl.actInv(Vec3<double>(lo.x(), y, lo.z())),
+              true};
+}
+
+SE3<double> placement(const urdf::Pose& o) {
+  const Eigen::Quaterniond q(o.rotation.w, o.rotation.x, o.rotation.y, o.rotation.z);
+  return SE3<double>{q.normalized().toRotationMatrix(), Vec3<double>(o.position.x, o.position.y, o.position.z)};
+}
+
+/// The uniform box a link's inertia would be (principal axes, sides from the moments:
+/// a² = 6 (I_b + I_c − I_a) / m), placed in the world; false if the inertia is none or no box's.
+bool inertiaBox(const urdf::Link& l, const SE3<double>& oMl, SE3<double>& oMb, Vec3<double>& size) {
+  if (!l.inertial || !(l.inertial->mass > 0.0)) return false;
+  const urdf::Inertial& in = *l.inertial;
+  Eigen::Matrix3d I;
+  I << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(I);
+  const Vec3<double> m = eig.eigenvalues();
+  for (int a = 0; a < 3; ++a) {
+    const double side2 = 6.0 * (m.sum() - 2.0 * m[a]) / in.mass;
+    if (!(side2 > 0.0)) return false;
+    size[a] = std::sqrt(side2);
+  }
+  Eigen::Matrix3d axes = eig.eigenvectors();
+  if (axes.determinant() < 0) axes.col(2) = -axes.col(2);
+  oMb = oMl * placement(in.origin) * SE3<double>{axes, Vec3<double>::Zero()};
+  return true;
+}
 
 Sole soleOf(const urdf::ModelInterface& urdf, const std::string& link, const SE3<double>& oMl) {
   Sole sole;
@@ -54,29 +98,10 @@ Sole soleOf(const urdf::ModelInterface& urdf, const std::string& link, const SE3
     const double volume = box.dim.x * box.dim.y * box.dim.z;
     if (volume <= largest) continue;
     largest = volume;
-    const auto& o = c->origin;
-    const Eigen::Quaterniond q(o.rotation.w, o.rotation.x, o.rotation.y, o.rotation.z);
-    const SE3<double> lMb{q.normalized().toRotationMatrix(),
-                          Vec3<double>(o.position.x, o.position.y, o.position.z)};
-    const SE3<double> oMb = oMl * lMb;
-    // The box's corners in the world: front and back of its lowest face, on its centre line.
-    Vec3<double> lo = Vec3<double>::Constant(std::numeric_limits<double>::infinity());
-    Vec3<double> hi = -lo;
-    for (int k = 0; k < 8; ++k) {
-      const Vec3<double> corner((k & 1 ? 0.5 : -0.5) * box.dim.x, (k & 2 ? 0.5 : -0.5) * box.dim.y,
-                                (k & 4 ? 0.5 : -0.5) * box.dim.z);
-      const Vec3<double> w = oMb.act(corner);
-      lo = lo.cwiseMin(w);
-      hi = hi.cwiseMax(w);
-    }
-    const double y = oMb.p.y();
-    sole.toe = oMl.actInv(Vec3<double>(hi.x(), y, lo.z()));
-    sole.heel = oMl.actInv(Vec3<double>(lo.x(), y, lo.z()));
-    sole.found = true;
+    sole = bottomOfBox(oMl * placement(c->origin), Vec3<double>(box.dim.x, box.dim.y, box.dim.z), oMl);
   }
   if (sole.found) return sole;
-  // No box: the foot's spheres (front and back ones, at their bottoms), else a guess about the
-  // link's origin or its one sphere.
+  // No box: the foot's spheres (front and back ones, at their bottoms).
   Vec3<double> front = oMl.p, back = oMl.p;
   int spheres = 0;
   for (const auto& c : l ? l->collision_array : std::vector<urdf::CollisionSharedPtr>{}) {
@@ -89,15 +114,22 @@ Sole soleOf(const urdf::ModelInterface& urdf, const std::string& link, const SE3
     if (spheres == 0 || bottom.x() < back.x()) back = bottom;
     ++spheres;
   }
-  sole.found = spheres >= 2 && front.x() - back.x() > 0.02;
-  if (!sole.found) {
-    front = back = Vec3<double>(front.x(), front.y(), std::min(front.z(), back.z()));
-    front.x() += 0.08;
-    back.x() -= 0.08;
+  if (spheres >= 2 && front.x() - back.x() > 0.02)
+    return Sole{oMl.actInv(front), oMl.actInv(back), true};
+  // Else a guess: the bottom of the box the foot's inertia would be (a foot is mostly a plate
+  // under its ankle; a point foot of millimetres says nothing of its sole, and points at the
+  // ankle put the ankle links on the ground), or 8 cm either side of its origin or its sphere.
+  SE3<double> oMb;
+  Vec3<double> size;
+  if (l && inertiaBox(*l, oMl, oMb, size)) {
+    sole = bottomOfBox(oMb, size, oMl);
+    sole.found = false;
+    return sole;
   }
-  sole.toe = oMl.actInv(front);
-  sole.heel = oMl.actInv(back);
-  return sole;
+  front = back = Vec3<double>(front.x(), front.y(), std::min(front.z(), back.z()));
+  front.x() += 0.08;
+  back.x() -= 0.08;
+  return Sole{oMl.actInv(front), oMl.actInv(back), false};
 }
 
 struct Leg {
@@ -229,7 +261,8 @@ std::string describeRobot(const std::string& urdfPath) {
     o += fmt::format("# Leg to {} ({} joints); its sole: {}\n", leg.foot, leg.limb.joints.size(),
                      leg.sole.found ? "its collision geometry's bottom, front and back"
                                     : "no collision box or spheres to take it from: the contact "
-                                      "points below are a guess, measure them");
+                                      "points below are a guess (the bottom of the box its "
+                                      "inertia would be), measure them");
   for (std::size_t k = 2; k < byHeight.size(); ++k)
     o += fmt::format("# Arm (or other limb) to {} ({} joints)\n",
                      m.bodyName[limbs[byHeight[k]].joints.back() + 1],
@@ -267,7 +300,6 @@ std::string describeRobot(const std::string& urdfPath) {
                    height - 0.19, height + 0.04);
   o += "backend:\n  name: simbody\n  simbody:\n    initial_posture: zero\n";
   o += "    initial_joints: {" + postureYaml + "}\n";
-  o += "    imu: {frame: " + m.bodyName[0] + "}\n";
   o += "    lidar: {frame: {link: " + m.frames[static_cast<std::size_t>(highest)].name +
        ", offset: [0, 0, 0.1]}}\n";
   return o;

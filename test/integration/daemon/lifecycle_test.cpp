@@ -87,6 +87,23 @@ TEST(Check, ChecksTheBackendsSectionThroughItsPlugin) {
   EXPECT_NE(refused.err.find("has no link 'lidar'; closest: "), std::string::npos) << refused.err;
   fs::remove_all(dir);
 }
+
+// The starter profile --describe-robot prints for a robot with point feet (the 35 kg one, feet
+// of a 2 mm sphere each) passes --check as it is saved. (It stands: StarterProfile in
+// ballast-daemon-stack-tests.)
+TEST(Check, TheStarterProfileOfARobotWithPointFeetPasses) {
+  const fs::path dir = scratchDir();
+  const Outcome described = runProgram({BALLASTD, "--describe-robot", POINT_FEET_URDF});
+  ASSERT_EQ(described.status, 0) << described.err;
+  EXPECT_NE(described.out.find("guess (the bottom of the box its inertia would be)"), std::string::npos)
+      << described.out;
+  const std::string profile = writeFile(dir / "starter.yaml", described.out);
+  const Outcome checked = runProgram({BALLASTD, "--check", "--profile", profile});
+  EXPECT_EQ(checked.status, 0) << checked.out << checked.err;
+  EXPECT_NE(checked.out.find("backend simbody: its section checked by the plugin"), std::string::npos)
+      << checked.out;
+  fs::remove_all(dir);
+}
 #endif
 
 // ballast-profile(5) is `ballastd --dump-schema=man`: the daemon's keys and the sections of the
