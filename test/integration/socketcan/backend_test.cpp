@@ -196,16 +196,31 @@ TEST(SocketcanBackend, CommandsBeyondAMotorsRangesAreClampedAndCounted) {
 }
 
 TEST(SocketcanBackend, ASilentMotorIsAFaultThatNamesIt) {
-  // Real time: the emulator answers each command at once; one motor falls silent. (The timeout
-  // leaves room for a loaded test machine.)
-  Rig rig(/*lockstep=*/false, "reply_timeout: 0.05\n");
+  // Real time: the emulator answers each command at once; one motor falls silent. (The
+  // timeouts, the IMU's too, leave room for a loaded test machine.)
+  Rig rig(/*lockstep=*/false, "reply_timeout: 0.05\nimu: {timeout: 0.05}\n");
   backend::Error error;
   ASSERT_TRUE(rig.configureAndStart(error)) << error.message;
   EXPECT_FALSE(rig.can.capabilities().simulation);
   const backend::Commands c = rig.hold();
+  const int knee = rig.robot->motorOf("left_knee");
+  int commandsBefore = 0;
+  rig.robot->with([&](CanEmulator& e) { commandsBefore = e.motor(knee).commands; });
   ASSERT_EQ(rig.ticks(20, c), Status::kOk) << rig.can.lastError().message;
-  rig.robot->with([&](CanEmulator& e) { e.motor(rig.robot->motorOf("left_knee")).silent = true; });
-  const double silentFrom = rig.sensors.time;
+  // The knee falls silent once it has answered the last of the 20 commands (one a tick): on a
+  // loaded machine the emulator lags, and a knee silenced with commands unanswered has its last
+  // reply older than the last read, whose time is the test's reference below.
+  bool answered = false;
+  for (int i = 0; i < 5000 && !answered; ++i) {
+    rig.robot->with([&](CanEmulator& e) {
+      const auto& m = e.motor(knee);
+      answered = m.commands == commandsBefore + 20 && !m.commanded;
+      if (answered) e.motor(knee).silent = true;
+    });
+    if (!answered) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  ASSERT_TRUE(answered) << "the emulator did not answer the knee's 20 commands in 5 s";
+  const double silentFrom = rig.sensors.time;  // its answer is read after this
   Status s = Status::kOk;
   for (int k = 0; k < 500 && s == Status::kOk; ++k) s = rig.ticks(1, c);
   EXPECT_EQ(s, Status::kFault);
