@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace ballast::gait {
 
@@ -177,8 +178,20 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
         s.moveVelocity = now.velocity;
         s.movePosition.z() = s.moveVelocity.z() = 0.0;
       }
-      s.apexHeight = terrain.maxHeightAlong(s.liftOffPosition.x(), s.liftOffPosition.y(),
-                                            s.touchDownPosition.x(), s.touchDownPosition.y());
+      // The ground under the sole's whole width: the point's path and its parallels `patch` to
+      // either side (the foothold search's margin around a point). A toe whose own line ran on a
+      // low patch beside a 4 cm one started forward flat, its sole's side caught the higher
+      // patch's edge and the foot pitched over it (rough ground in real time: a fall).
+      const Eigen::Vector2d up = s.liftOffPosition.head<2>(), down = s.touchDownPosition.head<2>();
+      const Eigen::Vector2d path = down - up;
+      const Eigen::Vector2d side =
+          params_.search.patch * (path.norm() > 1e-6 ? Eigen::Vector2d(-path.y(), path.x()) / path.norm()
+                                                     : Eigen::Vector2d(0.0, 1.0));
+      s.apexHeight = -std::numeric_limits<double>::infinity();
+      for (const double k : {-1.0, 0.0, 1.0}) {
+        const Eigen::Vector2d a = up + k * side, b = down + k * side;
+        s.apexHeight = std::max(s.apexHeight, terrain.maxHeightAlong(a.x(), a.y(), b.x(), b.y()));
+      }
       const double highest = std::max({s.apexHeight, s.liftOffPosition.z(), s.touchDownPosition.z()});
       const double lowest = std::min(s.liftOffPosition.z(), s.touchDownPosition.z());
       s.lift = highest - lowest > params_.stepHeight ? params_.stepLift : 0.0;

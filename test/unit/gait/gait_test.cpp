@@ -288,6 +288,28 @@ TEST_F(SwingPlannerTest, ApexClearsTheTerrainAndFootholdsSitOnIt) {
   EXPECT_DOUBLE_EQ(flat->lift, 0.0);
 }
 
+/// A 4 cm block just ahead of the left foot's toe, beside its line (2 to 8 cm to its left).
+class BlockBesideTheToe final : public TerrainQuery {
+ public:
+  double height(double x, double y) const override {
+    return x > 0.135 && x < 0.18 && y > 0.12 && y < 0.18 ? 0.04 : 0.0;
+  }
+};
+
+TEST_F(SwingPlannerTest, TheSolesSidesClearTheGroundBesideThePointsPath) {
+  // The toe's own line stays on the floor; the side of its sole passes over the block: a step,
+  // so the foot rises before it moves, and its apex clears the block.
+  const ContactSchedule schedule(walk(0.8, 0.2), 0.0);
+  SwingPlanner planner(defaults(), offsets);
+  planner.update(schedule, state(), VelocityCommand{0.3, 0, 0}, 1.0, BlockBesideTheToe());
+  const SwingTrajectory* sw = planner.swingAt(kLeftToe, 0.2);
+  ASSERT_NE(sw, nullptr);
+  ASSERT_GT(sw->touchDownPosition.x(), 0.18 + defaults().search.patch);  // past the block
+  EXPECT_DOUBLE_EQ(sw->touchDownPosition.z(), 0.0);
+  EXPECT_NEAR(sw->apexHeight, 0.04 + defaults().apexClearance, 1e-12);
+  EXPECT_DOUBLE_EQ(sw->lift, defaults().stepLift);
+}
+
 TEST_F(SwingPlannerTest, FeetNeverCrossEvenWhenCommandedSideways) {
   const ContactSchedule schedule(walk(0.8, 0.2), 0.0);
   SwingPlannerParameters params = defaults();
