@@ -236,6 +236,13 @@ void fig3(Script& s) {
   s.lines("(f) yaw", "yaw (deg)", tracked("yaw", "cmd_yaw", true));
 }
 
+void fig6(Script& s) {
+  s.lines("(a) height", "base height (m)", tracked("z", "cmd_height", false));
+  s.lines("(b) yaw", "yaw (deg)", tracked("yaw", "cmd_yaw", true));
+  s.lines("(c) pitch", "pitch (deg)", tracked("pitch", "cmd_pitch", true));
+  s.lines("(d) roll", "roll (deg)", tracked("roll", "cmd_roll", true));
+}
+
 void contacts(Script& s) {
   // Contact points 0..3: left toe, left heel, right toe, right heel (model/contact_points.hpp).
   for (int foot = 0; foot < 2; ++foot) {
@@ -332,6 +339,7 @@ std::string plotScript(const TelemetryTable& t, const std::string& data, const s
           << "set grid\nset key top right\n"
           << "set multiplot layout " << rows << "," << cols << " title " << quoted(title) << "\n";
   if (name == "fig3") fig3(s);
+  else if (name == "fig6") fig6(s);
   else if (name == "contacts") contacts(s);
   else if (name == "timing") timing(s, t);
   else if (limbs.empty()) s.lines("(a) joints", "q - qref (deg)", {});

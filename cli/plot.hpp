@@ -2,6 +2,8 @@
 // of the figures of kFigures, each a grid of panels gnuplot (pngcairo) draws:
 //   fig3      the paper's Fig. 3: (a) velocity tracking, (b) limb tracking error, (c) height,
 //             (d) roll, (e) pitch, (f) yaw; estimate, ground truth (simulation) and command
+//   fig6      the paper's Fig. 6 (walking over uneven terrain): (a) height, (b) yaw, (c) pitch,
+//             (d) roll; estimate, ground truth and command
 //   contacts  normal forces per foot (toe, heel, sum), the contact schedule per point, the
 //             friction the feet use (|f_t| / f_z)
 //   timing    MPC and WBC solve times and the tick's work and lateness over time, and the
@@ -43,6 +45,8 @@ inline constexpr Figure kFigures[] = {
     {"fig3", "the paper's Fig. 3: velocity, limb error, height, roll, pitch, yaw",
      "v_fwd,true_v_fwd,cmd_vx,limb_err,z,true_z,cmd_height,roll,true_roll,cmd_roll,pitch,"
      "true_pitch,cmd_pitch,yaw,true_yaw,cmd_yaw"},
+    {"fig6", "the paper's Fig. 6 (uneven terrain): height, yaw, pitch, roll",
+     "z,true_z,cmd_height,yaw,true_yaw,cmd_yaw,pitch,true_pitch,cmd_pitch,roll,true_roll,cmd_roll"},
     {"contacts", "contact forces and schedule per foot", "contact_*,fx_*,fy_*,fz_*"},
     {"timing", "MPC/WBC solve times, tick work and lateness, their histograms",
      "mpc_ms,wbc_ms,tick_ms,lateness_ms"},

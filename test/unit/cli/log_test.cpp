@@ -254,6 +254,7 @@ TEST_F(PlotCli, EachFigureOfABinaryRecording) {
   const std::map<std::string, std::vector<std::string>> panels = {
       {"fig3", {"(a) velocity tracking", "(b) limb tracking error", "(c) height", "(d) roll",
                 "(e) pitch", "(f) yaw"}},
+      {"fig6", {"(a) height", "(b) yaw", "(c) pitch", "(d) roll"}},
       {"contacts", {"(a) left foot: normal force", "(b) right foot: normal force",
                     "(c) contact schedule", "(d) friction used"}},
       {"timing", {"(a) solve times", "(b) tick work and lateness", "(c) tick lateness",
@@ -315,7 +316,7 @@ TEST_F(PlotCli, BadFiguresAndEmptyWindowsAreSaidSo) {
   const std::string png = (dir_ / "x.png").string();
   Outcome r = plot({blog_, "--fig", "nope", "-o", png});
   EXPECT_EQ(r.status, 2);
-  EXPECT_NE(r.err.find("fig3, contacts, timing, joints"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("fig3, fig6, contacts, timing, joints"), std::string::npos) << r.err;
   r = plot({blog_, "--from", "5", "-o", png});
   EXPECT_EQ(r.status, 1);
   EXPECT_NE(r.err.find("no frame"), std::string::npos) << r.err;
