@@ -55,23 +55,30 @@ double ContactSchedule::setGait(const Gait& gait, double t) {
   while (count_ > 1 && segments_[count_ - 1].start > t) --count_;
   const Segment& current = segments_[count_ - 1];
   double start = t;
+  Gait next = gait;
   if (current.gait.walking) {
     start = nextDoubleSupportStart(current, t);
     if (gait.walking) {
-      // Walking on with other parameters: switch at a full-cycle boundary so feet alternate.
+      // Walking on with other parameters (a step timing): at the next double support, the new
+      // cycle starting with the foot whose turn it is (the second of the cycle at a half-cycle
+      // boundary), so feet alternate.
       const double cycles = (start - current.start) / current.gait.period;
-      if (std::abs(cycles - std::round(cycles)) > 1e-6) start += 0.5 * current.gait.period;
+      const bool half = std::abs(cycles - std::round(cycles)) > 1e-6;
+      next.rightFirst = half != current.gait.rightFirst;
+      Gait same = current.gait;
+      same.rightFirst = next.rightFirst;
+      if (same == next) return current.start;  // the walk in force, as it goes on
     }
   }
   if (start <= current.start + kTimeEps) {
-    segments_[count_ - 1] = Segment{current.start, gait};
+    segments_[count_ - 1] = Segment{current.start, next};
     return current.start;
   }
   if (count_ == kMaxSegments) {  // keep the newest; older ones are far in the past by now
     for (int i = 1; i < count_; ++i) segments_[i - 1] = segments_[i];
     --count_;
   }
-  segments_[count_++] = Segment{start, gait};
+  segments_[count_++] = Segment{start, next};
   return start;
 }
 

@@ -10,7 +10,9 @@
 // The schedule is a short sequence of gait segments. A new gait takes effect at a safe time:
 // from standing, walking starts at once (its phase 0, first swing after a double support);
 // walking ends or changes only at the start of a double-support phase that follows a
-// touch-down of both feet, so no swing is cut short. Queries take absolute controller time.
+// touch-down of both feet, so no swing is cut short; walking on with another period or double
+// support begins its cycle with the foot whose turn it is (the request's rightFirst is then the
+// schedule's to choose). Queries take absolute controller time.
 #pragma once
 
 #include <array>

@@ -32,6 +32,7 @@ double SwingPlanner::omega() const {
 void SwingPlanner::planSteps(const ContactSchedule& schedule, const GaitState& state,
                              const VelocityCommand& command, double until) {
   numSteps_ = 0;
+  stepsLimited_ = false;
   for (int foot = 0; foot < 2; ++foot) {
     const int toe = foot == 0 ? kLeftToe : kRightToe;
     SwingInterval interval;
@@ -76,6 +77,7 @@ void SwingPlanner::planSteps(const ContactSchedule& schedule, const GaitState& s
   in.limits = params_.limits;
   in.limits.minWidth = params_.minFeetDistance;
   captureFootholds(in, steps_.data(), numSteps_);
+  for (int k = 0; k < std::min(numSteps_, 2); ++k) stepsLimited_ |= steps_[k].limited;
 }
 
 Eigen::Vector3d SwingPlanner::footOffset(int contact, double touchDown, const PlanarPose& base,
@@ -106,6 +108,7 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
   const Eigen::Vector3d vDesired(cy * command.vx - sy * command.vy, sy * command.vx + cy * command.vy,
                                  0.0);
   const bool capture = params_.rule == FootholdRule::kCapturePoint;
+  stepsLimited_ = false;
   if (capture) planSteps(schedule, state, command, until);
   footOffsetCount_.fill(0);
   for (int c = 0; c < kNumContacts; ++c) {

@@ -82,6 +82,9 @@ class SwingPlanner {
   const SwingTrajectory& swing(int contact, int i) const { return swings_[contact][i]; }
   /// Capture point rule: ω of the pendulum.
   double omega() const;
+  /// Capture point rule: one of the next two steps (one per foot) in the last update could not
+  /// land where the capture point asked, held to the step limits (Step::limited).
+  bool stepsLimited() const { return stepsLimited_; }
   const SwingPlannerParameters& parameters() const { return params_; }
   void setParameters(const SwingPlannerParameters& p) { params_ = p; }
 
@@ -100,6 +103,7 @@ class SwingPlanner {
   static constexpr int kMaxSteps = 2 * kMaxSwings;
   std::array<Step, kMaxSteps> steps_{};
   int numSteps_ = 0;
+  bool stepsLimited_ = false;
 
   SwingPlannerParameters params_;
   std::array<Eigen::Vector3d, kNumContacts> nominalOffsets_;

@@ -58,6 +58,10 @@ struct WbcSettings {
 
   // Priority 1: friction pyramid (C_fr of the paper, normal = world z) and torque limits.
   double frictionCoefficient;
+  /// Every joint's acceleration keeps it within its URDF position limits: jointKp·(limit − q) −
+  /// jointKd·q̇ bounds q̈ on each side. The limb tasks then fall short of a target beyond a
+  /// joint's range instead of driving the joint into its stop, which jolts the base.
+  bool jointLimits = false;
   /// |τ_j| ≤ torqueLimit[j], in the model's joint order; empty: the URDF effort limits.
   std::vector<double> torqueLimit;
 

@@ -73,8 +73,10 @@ int maxLevelRows(const model::Model& m, const WbcSettings& s) {
   const int nc3 = 3 * static_cast<int>(s.contactFrames.size());
   return std::max(physicsRows(m, s), limbRows(m, s) + 6 + nc3);
 }
+// Torque limits, friction, and room for the joint position limits (a profile switch may turn
+// them on).
 int inequalityRows(const model::Model& m, const WbcSettings& s) {
-  return m.nj() + kFrictionRows * static_cast<int>(s.contactFrames.size());
+  return 2 * m.nj() + kFrictionRows * static_cast<int>(s.contactFrames.size());
 }
 int equalityRows(const model::Model& m, const WbcSettings& s) {
   return physicsRows(m, s) + 2 * (limbRows(m, s) + 6 + 3 * static_cast<int>(s.contactFrames.size()));
@@ -126,6 +128,7 @@ void WholeBodyController::resolve(const WbcSettings& s) {
   settings_.baseKp = s.baseKp;
   settings_.baseKd = s.baseKd;
   settings_.frictionCoefficient = s.frictionCoefficient;
+  settings_.jointLimits = s.jointLimits;
   settings_.limbWeight = s.limbWeight;
   settings_.baseWeight = s.baseWeight;
   settings_.contactForceWeight = s.contactForceWeight;
@@ -285,7 +288,8 @@ void WholeBodyController::buildTasks(const WbcState& state, const WbcReference& 
   {
     int stanceCount = 0;
     for (int i = 0; i < nc_; ++i) stanceCount += ref.stance[i] ? 1 : 0;
-    auto rows = tasks_.addInequalities(nj_ + kFrictionRows * stanceCount);
+    const int limitRows = settings_.jointLimits ? nj_ : 0;
+    auto rows = tasks_.addInequalities(nj_ + kFrictionRows * stanceCount + limitRows);
     rows.D.topLeftCorner(nj_, nv_) = M.bottomRows(nj_);
     rows.D.topRightCorner(nj_, nF) = -Jc_.rightCols(nj_).transpose();
     rows.lower.head(nj_) = -torqueLimit_ - n.tail(nj_);
@@ -302,6 +306,16 @@ void WholeBodyController::buildTasks(const WbcState& state, const WbcReference& 
           0, -1, -mu;
       rows.upper.segment<kFrictionRows>(row).setZero();
       row += kFrictionRows;
+    }
+    // Joint position limits: q̈ between the PD accelerations towards each limit.
+    for (int j = 0; j < limitRows; ++j) {
+      const double q = q_[model::Model::qIndexOfJoint(j)];
+      const double v = state.v[model::Model::vIndexOfJoint(j)];
+      rows.D(row, model::Model::vIndexOfJoint(j)) = 1.0;
+      const double lo = model_.lowerPositionLimit[j], hi = model_.upperPositionLimit[j];
+      if (std::isfinite(lo)) rows.lower[row] = settings_.jointKp * (lo - q) - settings_.jointKd * v;
+      if (std::isfinite(hi)) rows.upper[row] = settings_.jointKp * (hi - q) - settings_.jointKd * v;
+      ++row;
     }
   }
   // 2: limbs: swing contact points in the world, joint-space joints.

@@ -10,7 +10,12 @@
 //          contact points (a foot on toe and heel) does not roll about the line through them,
 //          dᵀ(J_ω v̇ + J̇_ω v) = 0 — the four-point model leaves that roll free, the real foot has width
 //   1 [1]  limits, inequalities: torque limits through the actuated rows
-//          −τ_max − n_j ≤ [M_j  −J_jᵀ]ξ ≤ τ_max − n_j; friction pyramid C_fr f_c ≤ 0 on stance points
+//          −τ_max − n_j ≤ [M_j  −J_jᵀ]ξ ≤ τ_max − n_j; friction pyramid C_fr f_c ≤ 0 on stance points;
+//          with WbcSettings::jointLimits, joint position limits as acceleration bounds
+//          k_p(q_min − q) − k_d q̇ ≤ q̈ ≤ k_p(q_max − q) − k_d q̇ (the joint-space gains): a swing
+//          foot's target the leg cannot reach (a sideways push's step, the pelvis rolled) is
+//          then missed at the limit, where the paper's stack drove the hip into its stop and the
+//          stop's impulse threw the robot
 //   2 [2]  limb motion: swing contact points J_c v̇ = p̈* + kp(p* − p) + kd(ṗ* − ṗ) − J̇_c v (world);
 //          joint-space joints (arms) q̈_j = q̈*_j + kp(q*_j − q_j) + kd(q̇*_j − q̇_j)
 //   3 [3]  base motion: J_b v̇ = a*_b + Kp (q*_b ⊟ q_b) + Kd (v*_b − v_b) − J̇_b v, world-aligned

@@ -105,9 +105,10 @@ TEST(ContactSchedule, StartingToWalkIsImmediateAndStoppingWaitsForTheSwingToEnd)
 
 TEST(ContactSchedule, ChangingTheWalkKeepsFeetAlternating) {
   ContactSchedule s(walk(0.8, 0.2), 0.0);
-  // Request at 0.5 (right foot's turn next at 0.48 + ...): takes effect at a cycle boundary.
+  // Request at 0.5 (the right foot swinging, 0.48-0.8): takes effect at the next double support,
+  // a cycle boundary.
   const double at = s.setGait(walk(0.6, 0.2), 0.5);
-  EXPECT_NEAR(std::fmod(at, 0.8), 0.0, 1e-9);
+  EXPECT_NEAR(at, 0.8, 1e-9);
   // Sequence of swinging feet never repeats a foot.
   int last = -1;
   bool wasSwinging = false;
@@ -122,6 +123,24 @@ TEST(ContactSchedule, ChangingTheWalkKeepsFeetAlternating) {
     wasSwinging = l || r;
   }
   for (double d : swingDurations(s, kRightToe, at + 0.01, 4)) EXPECT_NEAR(d, 0.24, 2 * kDt);
+}
+
+TEST(ContactSchedule, AStepTimingChangeTakesEffectAtTheNextDoubleSupport) {
+  ContactSchedule s(walk(0.8, 0.2), 0.0);
+  // Request at 0.3 (the left foot swinging, 0.08-0.4): takes effect at 0.4, half a cycle in,
+  // where the right foot's turn comes: the new cycle starts with it (a 0.06 s double support,
+  // then its 0.24 s swing, 0.46-0.7), then the left's (0.76-1.0).
+  const double at = s.setGait(walk(0.6, 0.2), 0.3);
+  EXPECT_NEAR(at, 0.4, 1e-9);
+  EXPECT_TRUE(s.latestGait().rightFirst);
+  EXPECT_EQ(s.setGait(walk(0.6, 0.2), 0.35), at);  // asked again: the same change
+  const auto right = swingDurations(s, kRightToe, 0.41, 0.75);
+  ASSERT_EQ(right.size(), 1u);
+  EXPECT_NEAR(right[0], 0.24, 2 * kDt);
+  EXPECT_FALSE(s.inStance(kRightToe, 0.6));
+  EXPECT_TRUE(s.inStance(kLeftToe, 0.6));
+  EXPECT_FALSE(s.inStance(kLeftToe, 0.9));
+  EXPECT_TRUE(s.inStance(kRightToe, 0.9));
 }
 
 TEST(SwingTrajectory, EndsAtRestAndReachesTheApexAtMidSwing) {
@@ -321,6 +340,29 @@ TEST_F(SwingPlannerTest, FeetNeverCrossEvenWhenCommandedSideways) {
   const SwingTrajectory* sw = planner.swingAt(kLeftToe, 0.2);
   ASSERT_NE(sw, nullptr);
   EXPECT_GE(sw->touchDownPosition.y() - s.contactPositions[kRightToe].y(), 0.15 - 1e-12);
+}
+
+TEST_F(SwingPlannerTest, TheCapturePointSaysWhenItsStepIsHeldToTheLimits) {
+  // Walking in place, pushed sideways: 300 N on 50 kg is a force offset of 0.49 m at a pendulum
+  // of 0.8 m, so the capture point asks the left foot to land beyond the widest step (0.45 m
+  // from the stance foot): the step is held to the limits, which the planner's step timing
+  // reads (LocomotionPlanner: the gait walks gait.recovery_min_period then). The paper's rule
+  // has no such steps.
+  const ContactSchedule schedule(walk(0.8, 0.2), 0.0);
+  SwingPlannerParameters params = defaults();
+  params.rule = FootholdRule::kCapturePoint;
+  params.comHeight = 0.8;
+  GaitState s = state();
+  s.mass = 50.0;
+  s.com = Eigen::Vector3d(0.03, 0.0, 0.8);
+  auto limited = [&](const SwingPlannerParameters& p, double push) {
+    SwingPlanner planner(p, offsets);
+    s.externalForce = Eigen::Vector3d(0.0, push, 0.0);
+    planner.update(schedule, s, VelocityCommand{}, 1.0, FlatTerrain());
+    return planner.stepsLimited();
+  };
+  EXPECT_TRUE(limited(params, 300.0));
+  EXPECT_FALSE(limited(defaults(), 300.0));
 }
 
 TEST_F(SwingPlannerTest, ASwingInProgressKeepsItsLiftOffAndHoldsItsTargetLate) {

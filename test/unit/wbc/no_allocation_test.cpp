@@ -31,36 +31,39 @@ TEST(WbcNoAllocation, QpSolver) {
 
 TEST(WbcNoAllocation, ControllerTicks) {
   const model::Model& m = humanoid();
-  for (WbcVariant variant : {WbcVariant::kHierarchical, WbcVariant::kWeighted}) {
-    WbcSettings settings = wbcSettings();
-    settings.variant = variant;
-    WholeBodyController wbc(m, settings);
-    settings.torqueLimit.assign(m.nj(), 5.0);  // slack and clamping paths
-    WholeBodyController starved(m, settings);
-    WbcReference ref = wbc.makeReference();
-    WbcOutput out = wbc.makeOutput();
-    std::vector<int> frames;
-    for (const auto& f : settings.contactFrames) frames.push_back(m.frameId(f));
-    std::mt19937 rng(2);
-    const std::vector<std::vector<bool>> schedules{
-        {true, true, true, true}, {true, true, false, false}, {false, false, false, false}};
-    int qpSolves = 0;
-    for (const auto& schedule : schedules) {
-      ref.stance = schedule;
-      const ConsistentMotion c = consistentMotion(m, frames, schedule, rng, 0.5, 3.0);
-      consistentReferences(m, wbc, c, ref);
-      ref.baseLinearAcceleration.y() += 8.0;  // beyond friction: QPs run
-      const WbcState state{c.q, c.v};
-      wbc.update(state, ref, out);  // first tick (warm starts begin)
-      EXPECT_EQ(allocationsIn([&] { wbc.update(state, ref, out); }), 0) << toString(variant);
-      qpSolves += out.qpSolves;
-      EXPECT_EQ(allocationsIn([&] { starved.update(state, ref, out); }), 0) << toString(variant);
-      WbcState bad = state;
-      bad.v[3] = std::nan("");
-      EXPECT_EQ(allocationsIn([&] { wbc.update(bad, ref, out); }), 0);
-      EXPECT_EQ(out.status, WbcStatus::kInvalidInput);
+  for (const bool limits : {false, true}) {  // the joint limits' rows too
+    for (WbcVariant variant : {WbcVariant::kHierarchical, WbcVariant::kWeighted}) {
+      WbcSettings settings = wbcSettings();
+      settings.variant = variant;
+      settings.jointLimits = limits;
+      WholeBodyController wbc(m, settings);
+      settings.torqueLimit.assign(m.nj(), 5.0);  // slack and clamping paths
+      WholeBodyController starved(m, settings);
+      WbcReference ref = wbc.makeReference();
+      WbcOutput out = wbc.makeOutput();
+      std::vector<int> frames;
+      for (const auto& f : settings.contactFrames) frames.push_back(m.frameId(f));
+      std::mt19937 rng(2);
+      const std::vector<std::vector<bool>> schedules{
+          {true, true, true, true}, {true, true, false, false}, {false, false, false, false}};
+      int qpSolves = 0;
+      for (const auto& schedule : schedules) {
+        ref.stance = schedule;
+        const ConsistentMotion c = consistentMotion(m, frames, schedule, rng, 0.5, 3.0);
+        consistentReferences(m, wbc, c, ref);
+        ref.baseLinearAcceleration.y() += 8.0;  // beyond friction: QPs run
+        const WbcState state{c.q, c.v};
+        wbc.update(state, ref, out);  // first tick (warm starts begin)
+        EXPECT_EQ(allocationsIn([&] { wbc.update(state, ref, out); }), 0) << toString(variant);
+        qpSolves += out.qpSolves;
+        EXPECT_EQ(allocationsIn([&] { starved.update(state, ref, out); }), 0) << toString(variant);
+        WbcState bad = state;
+        bad.v[3] = std::nan("");
+        EXPECT_EQ(allocationsIn([&] { wbc.update(bad, ref, out); }), 0);
+        EXPECT_EQ(out.status, WbcStatus::kInvalidInput);
+      }
+      EXPECT_GT(qpSolves, 0);
     }
-    EXPECT_GT(qpSolves, 0);
   }
 }
 
@@ -77,6 +80,7 @@ TEST(WbcNoAllocation, SettingsSwitch) {
   next.jointSpaceJoints.clear();  // arms and legs both in joint space
   for (int j = 0; j < m.nj(); ++j) next.jointSpaceJoints.push_back(m.jointName[j + 1]);
   next.torqueLimit.assign(m.nj(), 50.0);
+  next.jointLimits = true;
   ASSERT_FALSE(validateSettings(next, m));
   bool taken = false;
   EXPECT_EQ(allocationsIn([&] { taken = wbc.setSettings(next); }), 0);

@@ -419,6 +419,35 @@ TEST(Wbc, ASwingingFootIsHeldLevel) {
   }
 }
 
+TEST(Wbc, JointLimitsBrakeAJointBeforeItsStop) {
+  // The left elbow (a joint-space joint) 0.01 rad below its upper limit, moving towards it at
+  // 1 rad/s, its reference asking to go on (the limit 0.1 rad beyond it). Without wbc.joint_limits
+  // the controller accelerates it into the stop; with them its acceleration is at most
+  // kp·0.01 − kd·1 (400·0.01 − 40 = −36 rad/s²): it brakes.
+  const model::Model& m = humanoid();
+  WbcSettings settings = wbcSettings();
+  ASSERT_FALSE(settings.jointLimits);  // the schema's default
+  const int elbow = m.jointId("left_elbow");
+  WbcState state{standingConfiguration(m), Eigen::VectorXd::Zero(m.nv)};
+  const double hi = m.upperPositionLimit[elbow];
+  state.q[model::Model::qIndexOfJoint(elbow)] = hi - 0.01;
+  state.v[model::Model::vIndexOfJoint(elbow)] = 1.0;
+  auto elbowAcceleration = [&](bool limits) {
+    settings.jointLimits = limits;
+    WholeBodyController wbc(m, settings);
+    WbcReference ref = standingReference(m, wbc, state);
+    ref.jointPosition[elbow] = hi + 0.1;
+    ref.jointVelocity[elbow] = 1.0;
+    WbcOutput out = wbc.makeOutput();
+    EXPECT_NE(wbc.update(state, ref, out), WbcStatus::kInvalidInput);
+    return out.acceleration[model::Model::vIndexOfJoint(elbow)];
+  };
+  const double bound = settings.jointKp * 0.01 - settings.jointKd * 1.0;
+  ASSERT_NEAR(bound, -36.0, 1e-9);
+  EXPECT_GT(elbowAcceleration(false), 0.0);
+  EXPECT_LE(elbowAcceleration(true), bound + 1e-6);
+}
+
 TEST(Wbc, BadInputGivesZeroTorquesAndAFlag) {
   const model::Model& m = humanoid();
   WholeBodyController wbc(m, wbcSettings());
