@@ -40,6 +40,16 @@
 
 namespace ballast::gait {
 
+/// A world vector (x, y) in the heading frame of `yaw` (x forward, y left), and back.
+inline Eigen::Vector2d toHeading(const Eigen::Vector2d& v, double yaw) {
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  return Eigen::Vector2d(c * v.x() + s * v.y(), -s * v.x() + c * v.y());
+}
+inline Eigen::Vector2d fromHeading(const Eigen::Vector2d& v, double yaw) {
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  return Eigen::Vector2d(c * v.x() - s * v.y(), s * v.x() + c * v.y());
+}
+
 /// ω of the pendulum for a centre of mass `height` above the contact points, 1/s.
 inline double pendulumFrequency(double height, double gravity = 9.81) {
   return std::sqrt(gravity / height);

@@ -79,7 +79,7 @@ inline bool leftFootFirst(const Eigen::Vector2d& point,
   Eigen::Vector2d middle = Eigen::Vector2d::Zero();
   for (const Eigen::Vector3d& c : contacts) middle += c.head<2>() / kNumContacts;
   const Eigen::Vector2d d = point - middle;
-  return -std::sin(yaw) * d.x() + std::cos(yaw) * d.y() >= 0.0;
+  return toHeading(d, yaw).y() >= 0.0;
 }
 
 /// The recovery gait's period, s (step timing, header comment). `point`: ξ + d (world x, y);
@@ -98,12 +98,8 @@ inline double recoveryPeriod(const Eigen::Vector2d& point, const Eigen::Vector2d
                        : 0.0;
   const Eigen::Vector2d p = heel + a * along;
   // Heading frame, from the stance foot's middle: p, and the direction ξ + d runs away in.
-  const double c = std::cos(yaw), s = std::sin(yaw);
-  const auto heading = [&](const Eigen::Vector2d& v) {
-    return Eigen::Vector2d(c * v.x() + s * v.y(), -s * v.x() + c * v.y());
-  };
-  const Eigen::Vector2d from = heading(p - 0.5 * (toe + heel));
-  const Eigen::Vector2d away = heading(point - p);
+  const Eigen::Vector2d from = toHeading(p - 0.5 * (toe + heel), yaw);
+  const Eigen::Vector2d away = toHeading(point - p, yaw);
   const double side = leftSwings ? 1.0 : -1.0;
   // Largest e^{ωt} with from + away·e^{ωt} within reach (the feet-distance side always is: the
   // foothold is moved out to it).

@@ -7,14 +7,11 @@ namespace ballast::gait {
 
 Eigen::Vector2d limitStep(const Eigen::Vector2d& target, const Eigen::Vector2d& stance, double yaw,
                           bool leftFoot, const StepLimits& limits) {
-  const double c = std::cos(yaw), s = std::sin(yaw);
-  const Eigen::Vector2d d = target - stance;
-  double forward = c * d.x() + s * d.y();
-  double lateral = -s * d.x() + c * d.y();
-  forward = std::clamp(forward, -limits.maxBackward, limits.maxForward);
+  Eigen::Vector2d d = toHeading(target - stance, yaw);  // forward, lateral
+  d.x() = std::clamp(d.x(), -limits.maxBackward, limits.maxForward);
   const double side = leftFoot ? 1.0 : -1.0;
-  lateral = side * std::clamp(side * lateral, limits.minWidth, limits.maxWidth);
-  return stance + Eigen::Vector2d(c * forward - s * lateral, s * forward + c * lateral);
+  d.y() = side * std::clamp(side * d.y(), limits.minWidth, limits.maxWidth);
+  return stance + fromHeading(d, yaw);
 }
 
 void captureFootholds(const CaptureStepInput& in, Step* steps, int n) {
@@ -41,10 +38,8 @@ void captureFootholds(const CaptureStepInput& in, Step* steps, int n) {
     step.limited = false;
     if (!step.fixed) {
       const double yaw = in.yaw + in.yawRate * (step.touchDown - in.t);
-      const double c = std::cos(yaw), s = std::sin(yaw);
       const Eigen::Vector2d& offset = step.left ? b.left : b.right;
-      Eigen::Vector2d target =
-          xi + in.forceOffset - Eigen::Vector2d(c * offset.x() - s * offset.y(), s * offset.x() + c * offset.y());
+      const Eigen::Vector2d target = xi + in.forceOffset - fromHeading(offset, yaw);
       step.foothold = limitStep(target, stance, yaw, step.left, in.limits);
       step.limited = (step.foothold - target).squaredNorm() > 1e-12;
     }

@@ -32,7 +32,6 @@ double SwingPlanner::omega() const {
 void SwingPlanner::planSteps(const ContactSchedule& schedule, const GaitState& state,
                              const VelocityCommand& command, double until) {
   numSteps_ = 0;
-  stepsLimited_ = false;
   for (int foot = 0; foot < 2; ++foot) {
     const int toe = foot == 0 ? kLeftToe : kRightToe;
     SwingInterval interval;

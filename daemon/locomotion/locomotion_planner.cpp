@@ -231,10 +231,8 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
     if (schedule_.latestGait().walking) gait.rightFirst = schedule_.latestGait().rightFirst;
     // Step timing, walking on the capture point's footholds: a step the capture point asks
     // beyond the step limits (a push) comes sooner, and so does the one after it.
-    if (swings_.parameters().rule == gait::FootholdRule::kCapturePoint && swings_.stepsLimited()) {
-      gait::Gait& walk = gait;
-      walk.period = std::min(settings_.recovery.minPeriod, walk.period);
-    }
+    if (swings_.parameters().rule == gait::FootholdRule::kCapturePoint && swings_.stepsLimited())
+      gait.period = std::min(settings_.recovery.minPeriod, gait.period);
   }
   schedule_.setGait(gait, starting ? walkStartsAt_ : t);
   if (recoveryActive_ && !recovering_ && !schedule_.gaitAt(t).walking) recoveryActive_ = false;
