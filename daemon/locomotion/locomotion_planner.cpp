@@ -223,18 +223,18 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
 
   // Gait: walking or standing, changed only where the schedule allows. Walking on keeps the foot
   // order in force (a recovery may have begun with the right foot), so the feet alternate.
-  gait::Gait gait;
+  gait::Gait next;  // the gait asked of the schedule
   if (recovering_) {
-    gait = recoveryGait_;
+    next = recoveryGait_;
   } else if (command.walk) {
-    gait = settings_.walkGait;
-    if (schedule_.latestGait().walking) gait.rightFirst = schedule_.latestGait().rightFirst;
+    next = settings_.walkGait;
+    if (schedule_.latestGait().walking) next.rightFirst = schedule_.latestGait().rightFirst;
     // Step timing, walking on the capture point's footholds: a step the capture point asks
     // beyond the step limits (a push) comes sooner, and so does the one after it.
     if (swings_.parameters().rule == gait::FootholdRule::kCapturePoint && swings_.stepsLimited())
-      gait.period = std::min(settings_.recovery.minPeriod, gait.period);
+      next.period = std::min(settings_.recovery.minPeriod, next.period);
   }
-  schedule_.setGait(gait, starting ? walkStartsAt_ : t);
+  schedule_.setGait(next, starting ? walkStartsAt_ : t);
   if (recoveryActive_ && !recovering_ && !schedule_.gaitAt(t).walking) recoveryActive_ = false;
   // Recovery steps take the capture point's footholds whatever the profile's rule is: they are
   // what the steps are for.
