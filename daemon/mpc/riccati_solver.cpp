@@ -198,42 +198,56 @@ bool RiccatiSolver::solve(const std::vector<LqNode>& nodes, const Eigen::VectorX
 bool RiccatiSolver::sweep(const std::vector<LqNode>& nodes, const Eigen::VectorXd& dx0,
                           std::vector<Eigen::VectorXd>& dx, std::vector<Eigen::VectorXd>& du) {
   const auto t0 = std::chrono::steady_clock::now();
-  const int nx = nx_;
-  P_ = nodes[N_].Q;
-  p_ = nodes[N_].q;
-  for (int k = N_ - 1; k >= 0; --k) {
-    const Projected& n = proj_[k];
-    const int nw = n.nw, nab = nx + nw;
-    // H = [A B]ᵀ P [A B] (lower triangle): AᵀPA, BᵀPA and BᵀPB in one product.
-    auto M = M_.leftCols(nab);
-    M.noalias() = P_ * n.AB;
-    auto H = H_.topLeftCorner(nab, nab);
-    H.triangularView<Eigen::Lower>() = n.AB.transpose() * M;
-    Pb_ = p_;
-    Pb_.noalias() += P_ * n.b;  // P b + p
-    auto y = y_.head(nab);
-    y.noalias() = n.AB.transpose() * Pb_;  // [Aᵀ; Bᵀ] (P b + p)
-    auto Huu = L_[k].topLeftCorner(nw, nw);
-    auto G = G_[k].topRows(nw);
-    auto g = g_[k].head(nw);
-    Huu.triangularView<Eigen::Lower>() = n.R + H.bottomRightCorner(nw, nw);
-    G = n.S + H.bottomLeftCorner(nw, nx);
-    g = n.r + y.tail(nw);
-    // H_uu = L Lᵀ (in place); G = L⁻¹ H_ux, g = L⁻¹ h_u (K = −L⁻ᵀ G, k = −L⁻ᵀ g).
-    Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(Huu);
-    if (llt.info() != Eigen::Success) return false;
-    const auto L = Huu.triangularView<Eigen::Lower>();
-    L.solveInPlace(G);
-    L.solveInPlace(g);
-    // P ← Q + AᵀPA − GᵀG (Hux_ᵀ K = −GᵀG);  p ← q + Aᵀ(P b + p) − Gᵀ g
-    P_.triangularView<Eigen::Lower>() = n.Q + H.topLeftCorner(nx, nx);
-    P_.selfadjointView<Eigen::Lower>().rankUpdate(G.transpose(), -1.0);
-    for (int j = 1; j < nx; ++j)
-      for (int i = 0; i < j; ++i) P_(i, j) = P_(j, i);
-    p_ = n.q + y.head(nx);
-    p_.noalias() -= G.transpose() * g;
-  }
+  beginSweep(nodes[N_]);
+  for (int k = N_ - 1; k >= 0; --k)
+    if (!sweepNode(k)) return false;
+  forwardPass(nodes, dx0, dx, du);
+  timings_.riccatiMs = msSince(t0);
+  return true;
+}
 
+void RiccatiSolver::beginSweep(const LqNode& terminal) {
+  P_ = terminal.Q;
+  p_ = terminal.q;
+}
+
+bool RiccatiSolver::sweepNode(int k) {
+  const int nx = nx_;
+  const Projected& n = proj_[k];
+  const int nw = n.nw, nab = nx + nw;
+  // H = [A B]ᵀ P [A B] (lower triangle): AᵀPA, BᵀPA and BᵀPB in one product.
+  auto M = M_.leftCols(nab);
+  M.noalias() = P_ * n.AB;
+  auto H = H_.topLeftCorner(nab, nab);
+  H.triangularView<Eigen::Lower>() = n.AB.transpose() * M;
+  Pb_ = p_;
+  Pb_.noalias() += P_ * n.b;  // P b + p
+  auto y = y_.head(nab);
+  y.noalias() = n.AB.transpose() * Pb_;  // [Aᵀ; Bᵀ] (P b + p)
+  auto Huu = L_[k].topLeftCorner(nw, nw);
+  auto G = G_[k].topRows(nw);
+  auto g = g_[k].head(nw);
+  Huu.triangularView<Eigen::Lower>() = n.R + H.bottomRightCorner(nw, nw);
+  G = n.S + H.bottomLeftCorner(nw, nx);
+  g = n.r + y.tail(nw);
+  // H_uu = L Lᵀ (in place); G = L⁻¹ H_ux, g = L⁻¹ h_u (K = −L⁻ᵀ G, k = −L⁻ᵀ g).
+  Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(Huu);
+  if (llt.info() != Eigen::Success) return false;
+  const auto L = Huu.triangularView<Eigen::Lower>();
+  L.solveInPlace(G);
+  L.solveInPlace(g);
+  // P ← Q + AᵀPA − GᵀG (Hux_ᵀ K = −GᵀG);  p ← q + Aᵀ(P b + p) − Gᵀ g
+  P_.triangularView<Eigen::Lower>() = n.Q + H.topLeftCorner(nx, nx);
+  P_.selfadjointView<Eigen::Lower>().rankUpdate(G.transpose(), -1.0);
+  for (int j = 1; j < nx; ++j)
+    for (int i = 0; i < j; ++i) P_(i, j) = P_(j, i);
+  p_ = n.q + y.head(nx);
+  p_.noalias() -= G.transpose() * g;
+  return true;
+}
+
+void RiccatiSolver::forwardPass(const std::vector<LqNode>& nodes, const Eigen::VectorXd& dx0,
+                                std::vector<Eigen::VectorXd>& dx, std::vector<Eigen::VectorXd>& du) {
   dx.resize(N_ + 1);
   du.resize(N_);
   dx[0] = dx0;
@@ -250,8 +264,6 @@ bool RiccatiSolver::sweep(const std::vector<LqNode>& nodes, const Eigen::VectorX
     dx[k + 1].noalias() += nodes[k].A * dx[k];
     dx[k + 1].noalias() += nodes[k].B * du[k];
   }
-  timings_.riccatiMs = msSince(t0);
-  return true;
 }
 
 }  // namespace ballast::mpc

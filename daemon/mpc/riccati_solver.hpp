@@ -13,6 +13,9 @@
 //     computed on one triangle; AᵀPA, BᵀPA and BᵀPB are the lower triangle of one product
 //     [A B]ᵀ (P [A B]), and K is kept as L and G (the forward pass solves with L);
 //  3. a forward pass from δx_0 (the initial-state defect) rolls out δx and δu.
+// Step 2 can also be taken one node at a time (beginSweep, sweepNode from N−1 down, then
+// forwardPass), so that a caller may run it behind the projections of the nodes before them
+// (sqp_solver.cpp): each step reads only its own node and what the step after it left.
 // The result is the exact minimiser of the LQ problem (checked against a direct KKT solve in
 // test/unit/mpc). Work arrays are allocated with the solver and reused; a node whose contact
 // mode changes size may reallocate its own.
@@ -27,7 +30,7 @@
 namespace ballast::mpc {
 
 struct RiccatiTimings {
-  double riccatiMs = 0.0;  ///< backward sweep and forward pass
+  double riccatiMs = 0.0;  ///< sweep(): backward sweep and forward pass
 };
 
 class RiccatiSolver {
@@ -44,9 +47,19 @@ class RiccatiSolver {
   /// Step 1 for node k alone (nodes are independent: callers may run these in parallel).
   /// Returns false if the node's equality rows are (numerically) rank deficient.
   bool project(int k, const LqNode& node);
-  /// Steps 2 and 3, after project() ran on nodes 0..N-1.
+  /// Steps 2 and 3, after project() ran on nodes 0..N-1: beginSweep, sweepNode(N−1..0),
+  /// forwardPass. Same result as taking them one by one.
   bool sweep(const std::vector<LqNode>& nodes, const Eigen::VectorXd& dx0,
              std::vector<Eigen::VectorXd>& dx, std::vector<Eigen::VectorXd>& du);
+
+  /// Step 2, one node at a time: beginSweep with the terminal node (nodes[N]), then
+  /// sweepNode(k) for k = N−1 down to 0, each after project(k). sweepNode returns false if
+  /// node k's projected Hessian is not positive definite (the sweep cannot go on).
+  void beginSweep(const LqNode& terminal);
+  bool sweepNode(int k);
+  /// Step 3, after sweepNode(0).
+  void forwardPass(const std::vector<LqNode>& nodes, const Eigen::VectorXd& dx0,
+                   std::vector<Eigen::VectorXd>& dx, std::vector<Eigen::VectorXd>& du);
 
   const RiccatiTimings& timings() const { return timings_; }
 

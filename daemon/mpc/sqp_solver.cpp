@@ -35,6 +35,7 @@ SqpSolver::SqpSolver(const OptimalControlProblem& problem, const SqpSettings& se
       nodeCost_(settings.nodes + 1),
       nodeViolation2_(settings.nodes + 1),
       projected_(settings.nodes),
+      projectionDone_(settings.nodes),
       linearizeCpuMs_(pool_.threads()),
       projectionCpuMs_(pool_.threads()) {
   for (int t = 0; t < pool_.threads(); ++t)
@@ -97,6 +98,16 @@ SqpSolver::Merit SqpSolver::evaluate(const std::vector<Eigen::VectorXd>& x,
   return m;
 }
 
+void SqpSolver::sweepProjected() {
+  const auto begin = Clock::now();
+  while (sweepOk_ && sweepNext_ >= 0 &&
+         projectionDone_[sweepNext_].load(std::memory_order_acquire)) {
+    const int k = sweepNext_--;
+    sweepOk_ = projected_[k] && riccati_.sweepNode(k);
+  }
+  sweepCpuMs_ += msSince(begin);
+}
+
 bool SqpSolver::iterate(double t0, const Eigen::VectorXd& xMeasured) {
   const auto start = Clock::now();
   const int N = settings_.nodes;
@@ -105,11 +116,20 @@ bool SqpSolver::iterate(double t0, const Eigen::VectorXd& xMeasured) {
   if (!xMeasured.allFinite()) return fail("the measured state has a NaN or infinite entry");
   warmStart(t0, xMeasured);
 
-  // Linearise and project every node (in parallel), then the terminal cost.
+  // Linearise and project every node in parallel, from the last one down, while the calling
+  // thread takes the backward Riccati sweep over those done (sweepProjected): the sweep, serial,
+  // runs behind the projections instead of after them all.
   auto t = Clock::now();
+  const double terminal = problem_.terminalCost(references_[N], x_[N], &lq_[N]);
+  riccati_.beginSweep(lq_[N]);
+  sweepNext_ = N - 1;
+  sweepOk_ = true;
+  sweepCpuMs_ = 0.0;
+  for (auto& done : projectionDone_) done.store(false, std::memory_order_relaxed);
   std::fill(linearizeCpuMs_.begin(), linearizeCpuMs_.end(), 0.0);
   std::fill(projectionCpuMs_.begin(), projectionCpuMs_.end(), 0.0);
-  auto linearize = [&](int k, int thread) {
+  auto linearize = [&](int i, int thread) {
+    const int k = N - 1 - i;
     const auto begin = Clock::now();
     problem_.linearize(*workspaces_[thread], references_[k], x_[k], u_[k], dt, lq_[k], values_[k]);
     lq_[k].b = x_[k] + dt * values_[k].xdot - x_[k + 1];
@@ -117,18 +137,21 @@ bool SqpSolver::iterate(double t0, const Eigen::VectorXd& xMeasured) {
     projected_[k] = riccati_.project(k, lq_[k]);
     linearizeCpuMs_[thread] += std::chrono::duration<double, std::milli>(linearized - begin).count();
     projectionCpuMs_[thread] += msSince(linearized);
+    projectionDone_[k].store(true, std::memory_order_release);
+    if (thread == 0) sweepProjected();
   };
   pool_.run(N, linearize);
-  const double terminal = problem_.terminalCost(references_[N], x_[N], &lq_[N]);
+  sweepProjected();  // the nodes the other threads finished last
   const double wall = msSince(t);
   double linearizeCpu = 0.0, projectionCpu = 0.0;
   for (int i = 0; i < pool_.threads(); ++i) {
     linearizeCpu += linearizeCpuMs_[i];
     projectionCpu += projectionCpuMs_[i];
   }
-  const double cpu = linearizeCpu + projectionCpu;
+  const double cpu = linearizeCpu + projectionCpu + sweepCpuMs_;
   stats_.projectionMs = cpu > 0.0 ? wall * projectionCpu / cpu : 0.0;
-  stats_.linearizeMs = wall - stats_.projectionMs;
+  stats_.riccatiMs = cpu > 0.0 ? wall * sweepCpuMs_ / cpu : 0.0;
+  stats_.linearizeMs = wall - stats_.projectionMs - stats_.riccatiMs;
   Merit current{terminal, 0.0};
   for (int k = 0; k < N; ++k) {
     if (!projected_[k])
@@ -139,10 +162,11 @@ bool SqpSolver::iterate(double t0, const Eigen::VectorXd& xMeasured) {
   }
   current.violation = std::sqrt(current.violation);
 
-  // LQ subproblem.
-  if (!riccati_.sweep(lq_, Eigen::VectorXd::Zero(problem_.nx()), dx_, du_))
-    return fail("the projected cost Hessian is not positive definite");
-  stats_.riccatiMs = riccati_.timings().riccatiMs;
+  // LQ subproblem: the sweep's forward pass.
+  if (!sweepOk_) return fail("the projected cost Hessian is not positive definite");
+  t = Clock::now();
+  riccati_.forwardPass(lq_, Eigen::VectorXd::Zero(problem_.nx()), dx_, du_);
+  stats_.riccatiMs += msSince(t);
   if (!finite(dx_) || !finite(du_)) return fail("the LQ step has NaN or infinite entries");
 
   // Filter line search.

@@ -6,8 +6,12 @@
 //   1. warm start: the previous solution shifted to the new grid t0 + k·dt (inputs of contact
 //      points whose mode changed are reset: zero force on a new swing, the reference force on a
 //      new stance); the first node is set to the measured state x̂;
-//   2. linearise every node and project out its equalities, spread over `threads` cores;
-//   3. solve the LQ subproblem with a Riccati sweep (riccati_solver.hpp);
+//   2. linearise every node and project out its equalities, spread over `threads` cores, from
+//      the last node down;
+//   3. solve the LQ subproblem with a Riccati sweep (riccati_solver.hpp): its backward pass on
+//      the calling thread, node by node as their projections are done (it needs only the
+//      nodes after the one it takes), so that it overlaps step 2 instead of following it; the
+//      arithmetic, and so the result, is the same whichever thread projected a node;
 //   4. line search on cost and constraint violation (a filter as in OCS2's SQP): accept the
 //      largest step 1, ½, ¼, … that lowers the violation, or the cost while the violation
 //      stays small;
@@ -17,6 +21,7 @@
 // The caller fills references() for the N+1 node times before each call.
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <string>
 #include <vector>
@@ -42,8 +47,9 @@ struct SqpSettings {
 };
 
 struct SqpStatistics {
-  /// Wall time of the parallel pass over the nodes, split between linearisation and the
-  /// projection of the equalities in proportion to the CPU time each took on the threads.
+  /// Wall time of the parallel pass over the nodes, split between linearisation, the
+  /// projection of the equalities and the backward Riccati sweep in proportion to the CPU time
+  /// each took on the threads; riccatiMs adds the forward pass.
   double linearizeMs = 0.0;
   double projectionMs = 0.0;
   double riccatiMs = 0.0;
@@ -80,6 +86,8 @@ class SqpSolver {
   void warmStart(double t0, const Eigen::VectorXd& xMeasured);
   Merit evaluate(const std::vector<Eigen::VectorXd>& x, const std::vector<Eigen::VectorXd>& u);
   bool fail(const std::string& why);
+  /// On the calling thread: the backward sweep over the nodes projected since it last ran.
+  void sweepProjected();
 
   const OptimalControlProblem& problem_;
   SqpSettings settings_;
@@ -92,6 +100,11 @@ class SqpSolver {
   std::vector<Eigen::VectorXd> x_, u_, xTrial_, uTrial_, dx_, du_;
   std::vector<double> nodeCost_, nodeViolation2_;
   std::vector<char> projected_;
+  /// Per node: its projection is done (set by the thread that projected it, read by the sweep).
+  std::vector<std::atomic<bool>> projectionDone_;
+  int sweepNext_ = -1;      ///< the next node the backward sweep takes
+  bool sweepOk_ = true;     ///< no projection failed and every Hessian so far was definite
+  double sweepCpuMs_ = 0.0;
   /// Per thread: CPU time (ms) of this iteration spent linearising and projecting nodes.
   std::vector<double> linearizeCpuMs_, projectionCpuMs_;
   MpcSolution solution_;

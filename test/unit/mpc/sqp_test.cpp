@@ -116,6 +116,33 @@ TEST(Sqp, OneIterationSolvesALinearQuadraticProblem) {
   EXPECT_LT(sqp.statistics().violation, 1e-9);
 }
 
+TEST(Sqp, ARankDeficientEqualityFailsTheIterationAndNamesTheFirstNode) {
+  // The backward sweep runs behind the projections, from the last node down: a node whose
+  // equalities no input can meet stops it, and the iteration reports the first such node.
+  LinearProblem p;
+  const int nx = 3, nu = 2, N = 12;
+  p.Ac = Eigen::MatrixXd::Identity(nx, nx);
+  p.Bc = Eigen::MatrixXd::Ones(nx, nu);
+  p.c = Eigen::VectorXd::Zero(nx);
+  p.C = Eigen::MatrixXd::Ones(1, nx);
+  p.D = Eigen::MatrixXd::Zero(1, nu);  // a row without inputs
+  p.e = Eigen::VectorXd::Ones(1);
+  p.Q = p.QN = Eigen::MatrixXd::Identity(nx, nx);
+  p.R = Eigen::MatrixXd::Identity(nu, nu);
+  SqpSettings settings = test::controlDefaults().locomotion.sqp;
+  settings.nodes = N;
+  settings.dt = 0.05;
+  settings.threads = 2;
+  SqpSolver sqp(p, settings);
+  for (auto& r : sqp.references()) {
+    r.x = Eigen::VectorXd::Zero(nx);
+    r.u = Eigen::VectorXd::Zero(nu);
+  }
+  EXPECT_FALSE(sqp.iterate(0.0, Eigen::VectorXd::Ones(nx)));
+  EXPECT_NE(sqp.statistics().message.find("at node 0 "), std::string::npos)
+      << sqp.statistics().message;
+}
+
 class Kinodynamic : public ::testing::Test {
  protected:
   const model::Model& m = test::humanoid();
@@ -287,6 +314,32 @@ TEST_F(Kinodynamic, StandingConvergesToStaticEquilibrium) {
   EXPECT_LT(xdot.segment<3>(3).norm(), 2.0);
   // The first node is the measured state, held.
   EXPECT_LT((s.x[0] - x0).norm(), 1e-12);
+}
+
+TEST_F(Kinodynamic, TheSolutionIsTheSameOnOneThreadAsOnSeveral) {
+  // Nodes are projected on any thread and the backward sweep follows them on the caller's: the
+  // arithmetic must not depend on who did what, so plans are bit-identical whatever the cores.
+  KinodynamicProblem problem(m, frames, settings());
+  std::vector<MpcSolution> solutions;
+  for (int threads : {1, 2, 3}) {
+    SqpSettings s = test::controlDefaults().locomotion.sqp;
+    s.nodes = 30;
+    s.dt = 0.02;
+    s.threads = threads;
+    SqpSolver sqp(problem, s);
+    for (auto& r : sqp.references()) r = standingReference();
+    model::VecX<double> q = qStand;
+    q[1] += 0.03;
+    model::Vec6<double> h;
+    h << 5.0, -3.0, 1.0, 0.8, 0.3, -0.2;
+    for (int it = 0; it < 4; ++it) ASSERT_TRUE(sqp.iterate(0.01 * it, stateOf(q, h))) << threads;
+    solutions.push_back(sqp.solution());
+  }
+  for (size_t i = 1; i < solutions.size(); ++i)
+    for (int k = 0; k <= 30; ++k) {
+      ASSERT_EQ(solutions[i].x[k], solutions[0].x[k]) << "threads " << i + 1 << ", node " << k;
+      if (k < 30) ASSERT_EQ(solutions[i].u[k], solutions[0].u[k]) << "threads " << i + 1 << ", node " << k;
+    }
 }
 
 }  // namespace
