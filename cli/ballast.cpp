@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -725,10 +726,33 @@ int main(int argc, char** argv) {
     }
     if (const int code = s.call({{"cmd", "advance"}, {"until", until}}, reply); code != kOk)
       return failed(code);
-    // A held loop stands still at `until`; each command there takes one more tick.
+    // A held loop stands still at `until`; each command there takes one more tick. A loop whose
+    // backend failed stands still anywhere (a simulation that failed has no next step): the
+    // wait ends with the fault, or after kNoProgress s of wall time without a tick.
+    constexpr double kNoProgress = 10.0;
+    double lastT = -1.0;
+    auto lastMove = std::chrono::steady_clock::now();
     while (!noWait) {
       if (const int code = now(t); code != kOk) return failed(code);
       if (t + 5e-4 >= until) break;
+      const auto wall = std::chrono::steady_clock::now();
+      if (t != lastT) {
+        lastT = t;
+        lastMove = wall;
+      } else {
+        const double still = std::chrono::duration<double>(wall - lastMove).count();
+        const json& faults = reply["status"]["faults"];
+        if ((still > 0.5 && faults.is_array() && !faults.empty()) || still > kNoProgress) {
+          char at[64];
+          std::snprintf(at, sizeof at, "the controller's clock stopped at t = %.3f s", t);
+          std::string why = faults.is_array() && !faults.empty()
+                                ? ": fault " + faults.back().value("kind", "") + ": " +
+                                      faults.back().value("message", "")
+                                : " (no tick for " + std::to_string(static_cast<int>(kNoProgress)) +
+                                      " s)";
+          return refuse(o, "stalled", std::string(at) + why);
+        }
+      }
       ::usleep(10000);
     }
     if (o.json)

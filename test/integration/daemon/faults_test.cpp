@@ -60,6 +60,32 @@ INSTANTIATE_TEST_SUITE_P(
                       FaultCase{"contact", "non_foot_contact_at", "fall", "other than the feet"}),
     [](const auto& info) { return std::string(info.param.name); });
 
+TEST(HeldAdvance, EndsWithTheFaultWhenTheBackendStopsTheClock) {
+  // A held lockstep daemon whose backend fails at 1 s cannot run to 3 s: the controller time
+  // stops where the backend failed, and `advance` says so instead of waiting for ever.
+  const fs::path dir = scratchDir();
+  const std::string profile =
+      writeFile(dir / "p.yaml", "extends: " + std::string(STANDING_FAKE_PROFILE) +
+                                    "\nbackend:\n  fake:\n    fault_at: 1.0\n");
+  Daemon d(dir, profile, {"--hold"});
+  ASSERT_TRUE(d.running()) << d.log();
+  const auto began = std::chrono::steady_clock::now();
+  const Outcome r = d.cli({"--json", "advance", "3"});
+  const double waited =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - began).count();
+  EXPECT_EQ(r.status, 1) << r.out << r.err;
+  EXPECT_EQ(r.parsed()["error"]["code"], "stalled") << r.out;
+  const std::string message = r.parsed()["error"]["message"];
+  const std::size_t at = message.find("stopped at t = ");
+  ASSERT_NE(at, std::string::npos) << message;
+  EXPECT_NEAR(std::stod(message.substr(at + 15)), 1.0, 0.0021) << message;
+  EXPECT_NE(message.find("the fake backend was told to fail"), std::string::npos) << message;
+  EXPECT_LT(waited, 8.0);  // the fault ends the wait, not the 10 s without a tick
+  EXPECT_EQ(d.status()["mode"], "damp");
+  EXPECT_EQ(d.stop(), 0) << d.log();
+  fs::remove_all(dir);
+}
+
 TEST(Push, RefusedByABackendWithoutADisturbanceInput) {
   const fs::path dir = scratchDir();
   const std::string profile =
