@@ -36,6 +36,24 @@ struct LidarSettings {
   double offset[3] = {0.0, 0.0, 0.0}, rpy[3] = {0.0, 0.0, 0.0};
 };
 
+/// LidarSettings from a simulation plugin's lidar.* keys (fields lidar_rate, ..., lidar_frame).
+template <typename Settings>
+LidarSettings lidarSettings(const Settings& s) {
+  LidarSettings l;
+  l.rate = s.lidar_rate;
+  l.horizontal_rays = s.lidar_horizontal_rays;
+  l.vertical_rays = s.lidar_vertical_rays;
+  l.horizontal_fov = s.lidar_horizontal_fov;
+  l.vertical_min = s.lidar_vertical_min;
+  l.vertical_max = s.lidar_vertical_max;
+  l.min_range = s.lidar_min_range;
+  l.max_range = s.lidar_max_range;
+  l.range_noise = s.lidar_range_noise;
+  l.link = s.lidar_frame.link;
+  for (int k = 0; k < 3; ++k) l.offset[k] = s.lidar_frame.offset[k], l.rpy[k] = s.lidar_frame.rpy[k];
+  return l;
+}
+
 class RollingLidar {
  public:
   void configure(const LidarSettings& settings, std::uint64_t seed);

@@ -33,6 +33,23 @@ struct SensorNoise {
   double position_fix_noise = 0.01;   ///< σ per axis, m
 };
 
+/// SensorNoise from a simulation plugin's settings, whose keys (and fields) have these names.
+template <typename Settings>
+SensorNoise sensorNoise(const Settings& s) {
+  SensorNoise n;
+  n.encoder_resolution = s.encoder_resolution;
+  n.joint_velocity_noise = s.joint_velocity_noise;
+  n.torque_noise = s.torque_noise;
+  n.gyro_noise_density = s.imu_gyro_noise_density;
+  n.gyro_bias = s.imu_gyro_bias;
+  n.accel_noise_density = s.imu_accel_noise_density;
+  n.accel_bias = s.imu_accel_bias;
+  n.orientation_noise = s.imu_orientation_noise;
+  n.position_fix_rate = s.position_fix_rate;
+  n.position_fix_noise = s.position_fix_noise;
+  return n;
+}
+
 /// The IMU's true values.
 struct ImuTruth {
   double orientation[4] = {0, 0, 0, 1};  ///< world <- IMU, (x, y, z, w)

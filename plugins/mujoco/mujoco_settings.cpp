@@ -59,7 +59,7 @@ const Schema<MujocoSettings> kSchema({
   number("imu.accel_bias", "0", 0, 5, "", "σ (m/s²) of the per-axis accelerometer bias, drawn once at start").inGroup(kSensors).into<&S::imu_accel_bias>(),
   number("imu.orientation_noise", "0", 0, 0.5, "", "σ (rad) of a random small rotation applied to the reported orientation").inGroup(kSensors).into<&S::imu_orientation_noise>(),
   flag("lidar.enabled", "true", "simulate the lidar (Capabilities::lidar)").inGroup(kLidar).into<&S::lidar_enabled>(),
-  text("lidar.frame", "lidar", "URDF link of the sensor; rays in its x-forward, z-up frame").inGroup(kLidar).into<&S::lidar_frame>(),
+  frame("lidar.frame", "lidar", true, "the sensor: a URDF link, or {link: NAME, offset: [x, y, z], rpy: [r, p, y]} in that link's frame; rays in its x-forward, z-up frame").inGroup(kLidar).into<&S::lidar_frame>(),
   number("lidar.rate", "10", 0.1, 100, "", "scans per second (Hz)").inGroup(kLidar).into<&S::lidar_rate>(),
   integer("lidar.horizontal_rays", "180", 1, 4096, "", "rays per scan line").inGroup(kLidar).into<&S::lidar_horizontal_rays>(),
   integer("lidar.vertical_rays", "16", 1, 256, "", "scan lines").inGroup(kLidar).into<&S::lidar_vertical_rays>(),
@@ -112,36 +112,6 @@ MujocoSettings parseMujocoSettings(const std::string& yaml, const std::string& o
 std::string mujocoSettingsReference() { return schema::textReference(kSchema.keys()); }
 const char* mujocoSettingsDoc(const char* format) {
   return schema::backendSectionDoc(kSchema.keys(), "mujoco", format);
-}
-
-plugin::SensorNoise sensorNoise(const MujocoSettings& s) {
-  plugin::SensorNoise n;
-  n.encoder_resolution = s.encoder_resolution;
-  n.joint_velocity_noise = s.joint_velocity_noise;
-  n.torque_noise = s.torque_noise;
-  n.gyro_noise_density = s.imu_gyro_noise_density;
-  n.gyro_bias = s.imu_gyro_bias;
-  n.accel_noise_density = s.imu_accel_noise_density;
-  n.accel_bias = s.imu_accel_bias;
-  n.orientation_noise = s.imu_orientation_noise;
-  n.position_fix_rate = s.position_fix_rate;
-  n.position_fix_noise = s.position_fix_noise;
-  return n;
-}
-
-plugin::LidarSettings lidarSettings(const MujocoSettings& s) {
-  plugin::LidarSettings l;
-  l.rate = s.lidar_rate;
-  l.horizontal_rays = s.lidar_horizontal_rays;
-  l.vertical_rays = s.lidar_vertical_rays;
-  l.horizontal_fov = s.lidar_horizontal_fov;
-  l.vertical_min = s.lidar_vertical_min;
-  l.vertical_max = s.lidar_vertical_max;
-  l.min_range = s.lidar_min_range;
-  l.max_range = s.lidar_max_range;
-  l.range_noise = s.lidar_range_noise;
-  l.link = s.lidar_frame;  // a link; MuJoCo's lidar sits at its origin
-  return l;
 }
 
 }  // namespace ballast::mujoco

@@ -69,7 +69,7 @@ struct MujocoSettings : schema::Locations {
   double imu_orientation_noise;
 
   bool lidar_enabled;
-  std::string lidar_frame;
+  schema::FrameRef lidar_frame;
   double lidar_rate;
   int lidar_horizontal_rays, lidar_vertical_rays;
   double lidar_horizontal_fov, lidar_vertical_min, lidar_vertical_max;
@@ -97,10 +97,5 @@ MujocoSettings parseMujocoSettings(const std::string& yaml, const std::string& o
 std::string mujocoSettingsReference();
 /// BackendEntry::section_doc: this section's keys as man page entries or commented YAML.
 const char* mujocoSettingsDoc(const char* format);
-
-/// The sensor keys, for the shared sensor model.
-plugin::SensorNoise sensorNoise(const MujocoSettings& settings);
-/// The lidar.* keys, for the shared rolling lidar.
-plugin::LidarSettings lidarSettings(const MujocoSettings& settings);
 
 }  // namespace ballast::mujoco

@@ -167,7 +167,7 @@ MujocoWorld::MujocoWorld(const WorldOptions& options)
           static_cast<int>(i);
   gravity_ = {s.gravity[0], s.gravity[1], s.gravity[2]};
   imuLink_ = frameFor(s.imu_frame, "imu.frame", s);
-  lidarLink_ = s.lidar_enabled ? linkFor(s.lidar_frame, "lidar.frame", s) : imuLink_;
+  lidarLink_ = s.lidar_enabled ? frameFor(s.lidar_frame, "lidar.frame", s) : imuLink_;
 
   initialQ_ = plugin::initialPosture(built_.jointNames, built_.positionLimits, s.initial_posture,
                                      s.initial_joints, s, urdfPath_);

@@ -104,35 +104,4 @@ const char* simSettingsDoc(const char* format) {
   return schema::backendSectionDoc(kSchema.keys(), "simbody", format);
 }
 
-plugin::SensorNoise sensorNoise(const SimSettings& s) {
-  plugin::SensorNoise n;
-  n.encoder_resolution = s.encoder_resolution;
-  n.joint_velocity_noise = s.joint_velocity_noise;
-  n.torque_noise = s.torque_noise;
-  n.gyro_noise_density = s.imu_gyro_noise_density;
-  n.gyro_bias = s.imu_gyro_bias;
-  n.accel_noise_density = s.imu_accel_noise_density;
-  n.accel_bias = s.imu_accel_bias;
-  n.orientation_noise = s.imu_orientation_noise;
-  n.position_fix_rate = s.position_fix_rate;
-  n.position_fix_noise = s.position_fix_noise;
-  return n;
-}
-
-plugin::LidarSettings lidarSettings(const SimSettings& s) {
-  plugin::LidarSettings l;
-  l.rate = s.lidar_rate;
-  l.horizontal_rays = s.lidar_horizontal_rays;
-  l.vertical_rays = s.lidar_vertical_rays;
-  l.horizontal_fov = s.lidar_horizontal_fov;
-  l.vertical_min = s.lidar_vertical_min;
-  l.vertical_max = s.lidar_vertical_max;
-  l.min_range = s.lidar_min_range;
-  l.max_range = s.lidar_max_range;
-  l.range_noise = s.lidar_range_noise;
-  l.link = s.lidar_frame.link;
-  for (int k = 0; k < 3; ++k) l.offset[k] = s.lidar_frame.offset[k], l.rpy[k] = s.lidar_frame.rpy[k];
-  return l;
-}
-
 }  // namespace ballast::simbody

@@ -95,9 +95,4 @@ std::string simSettingsReference();
 /// BackendEntry::section_doc: this section's keys as man page entries or commented YAML.
 const char* simSettingsDoc(const char* format);
 
-/// The sensor keys, for the shared sensor model.
-plugin::SensorNoise sensorNoise(const SimSettings& settings);
-/// The lidar.* keys, for the shared rolling lidar.
-plugin::LidarSettings lidarSettings(const SimSettings& settings);
-
 }  // namespace ballast::simbody

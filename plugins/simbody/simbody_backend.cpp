@@ -53,8 +53,8 @@ bool SimbodyBackend::configure(const backend::Config& config, backend::Error& er
     for (int j = 0; j < caps_.num_joints; ++j)
       std::snprintf(caps_.joint_names[j], backend::kNameLength, "%s",
                     world_->jointNames()[static_cast<std::size_t>(j)].c_str());
-    sensors_.configure(sensorNoise(settings_), period_, config.seed);
-    if (lidarEnabled_) lidar_.configure(lidarSettings(settings_), config.seed);
+    sensors_.configure(plugin::sensorNoise(settings_), period_, config.seed);
+    if (lidarEnabled_) lidar_.configure(plugin::lidarSettings(settings_), config.seed);
     host_.configure(settings_.host_stall_at, settings_.host_stall, settings_.host_jitter_from,
                     settings_.host_jitter_fraction, settings_.host_jitter, config.seed);
     configureCommands(settings_.motor_latency_ticks);

@@ -42,7 +42,7 @@ TEST(MujocoSettings, TheSensorAndLidarKeysFeedTheSharedModels) {
       "position_fix: {rate: 10, noise: 0.02}\n"
       "lidar: {rate: 20, horizontal_rays: 90, vertical_rays: 8, range_noise: 0.01}\n",
       "sim.yaml:10");
-  const plugin::SensorNoise n = sensorNoise(s);
+  const plugin::SensorNoise n = plugin::sensorNoise(s);
   EXPECT_DOUBLE_EQ(n.encoder_resolution, 0.001);
   EXPECT_DOUBLE_EQ(n.joint_velocity_noise, 0.02);
   EXPECT_DOUBLE_EQ(n.torque_noise, 0.5);
@@ -53,11 +53,18 @@ TEST(MujocoSettings, TheSensorAndLidarKeysFeedTheSharedModels) {
   EXPECT_DOUBLE_EQ(n.orientation_noise, 0.004);
   EXPECT_DOUBLE_EQ(n.position_fix_rate, 10);
   EXPECT_DOUBLE_EQ(n.position_fix_noise, 0.02);
-  const plugin::LidarSettings l = lidarSettings(s);
+  const plugin::LidarSettings l = plugin::lidarSettings(s);
   EXPECT_DOUBLE_EQ(l.rate, 20);
   EXPECT_EQ(l.horizontal_rays, 90);
   EXPECT_EQ(l.vertical_rays, 8);
   EXPECT_DOUBLE_EQ(l.range_noise, 0.01);
+  EXPECT_EQ(l.link, "lidar");
+  const plugin::LidarSettings mounted = plugin::lidarSettings(parseMujocoSettings(
+      "lidar: {frame: {link: head, offset: [0.08, 0, 0.1], rpy: [0, 0.2, 0]}}\n", "sim.yaml:10"));
+  EXPECT_EQ(mounted.link, "head");
+  EXPECT_DOUBLE_EQ(mounted.offset[0], 0.08);
+  EXPECT_DOUBLE_EQ(mounted.offset[2], 0.1);
+  EXPECT_DOUBLE_EQ(mounted.rpy[1], 0.2);
 }
 
 TEST(MujocoSettings, ErrorsSayFileLineColumnKeyAndWhatIsWrong) {

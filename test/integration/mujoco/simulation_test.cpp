@@ -399,39 +399,51 @@ class MujocoStageMap : public ::testing::Test {
 std::string MujocoStageMap::path_;
 
 TEST_F(MujocoStageMap, TheLidarSeesTheStageTopAtItsHeight) {
-  Sim sim("lidar: {vertical_min: -1.2, vertical_max: 0.0}\n", path_);
-  ASSERT_TRUE(sim.ok) << sim.message;
-  backend::PointCloudView scan;
-  EXPECT_FALSE(sim.backend.lidarScan(scan));
-  int ticks = 0;
-  while (!sim.backend.lidarScan(scan) && ticks < 200) {
-    ASSERT_TRUE(sim.run(1, sim.hold));
-    ++ticks;
-  }
-  ASSERT_EQ(ticks, 100);  // 10 Hz
-  EXPECT_DOUBLE_EQ(scan.time, 0.1);
-  // In the sensor frame at the sweep's end (ABI 6): placed here by the sensor's true pose then.
-  ASSERT_EQ(scan.frame, backend::ScanFrame::kSensor);
-  EXPECT_STREQ(scan.sensor_link, "lidar");
-  double o[3], R[9];
-  sim.backend.world().lidarPose(o, R);
-  EXPECT_GT(o[2], 1.3);  // the head
-  int onStage = 0, onFloor = 0;
-  for (int i = 0; i < scan.count; ++i) {
-    const float* s = scan.xyz + 3 * i;
-    double p[3];
-    for (int k = 0; k < 3; ++k) p[k] = o[k] + R[3 * k] * s[0] + R[3 * k + 1] * s[1] + R[3 * k + 2] * s[2];
-    if (p[0] > 0.65 && p[0] < 1.95 && std::abs(p[1]) < 0.95) {
-      ++onStage;
-      EXPECT_NEAR(p[2], 0.10, kRes) << p[0] << " " << p[1];
-    } else if ((p[0] < 0.55 || p[0] > 2.05) && p[0] < 2.9 && p[0] > -0.9) {
-      ++onFloor;
-      EXPECT_NEAR(p[2], 0.0, kRes) << p[0] << " " << p[1];
+  // On its link, and mounted off it (offset and tilt in the link's frame): the points, placed
+  // by the pose the sensor reports, lie on the stage and the floor either way.
+  double originOnLink[3] = {0, 0, 0};
+  for (const char* mount : {"", ", frame: {link: lidar, offset: [0.05, 0, 0.1], rpy: [0, 0.2, 0.3]}"}) {
+    SCOPED_TRACE(mount);
+    Sim sim(std::string("lidar: {vertical_min: -1.2, vertical_max: 0.0") + mount + "}\n", path_);
+    ASSERT_TRUE(sim.ok) << sim.message;
+    backend::PointCloudView scan;
+    EXPECT_FALSE(sim.backend.lidarScan(scan));
+    int ticks = 0;
+    while (!sim.backend.lidarScan(scan) && ticks < 200) {
+      ASSERT_TRUE(sim.run(1, sim.hold));
+      ++ticks;
     }
+    ASSERT_EQ(ticks, 100);  // 10 Hz
+    EXPECT_DOUBLE_EQ(scan.time, 0.1);
+    // In the sensor frame at the sweep's end (ABI 6): placed here by the sensor's true pose then.
+    ASSERT_EQ(scan.frame, backend::ScanFrame::kSensor);
+    EXPECT_STREQ(scan.sensor_link, "lidar");
+    double o[3], R[9];
+    sim.backend.world().lidarPose(o, R);
+    EXPECT_GT(o[2], 1.3);  // the head
+    if (*mount == 0) {
+      std::copy(o, o + 3, originOnLink);
+    } else {
+      EXPECT_NEAR(o[2] - originOnLink[2], 0.1, 0.01);  // the head stands level
+      EXPECT_NEAR(R[6], -std::sin(0.2), 0.02);          // the x axis pitched down by 0.2 rad
+    }
+    int onStage = 0, onFloor = 0;
+    for (int i = 0; i < scan.count; ++i) {
+      const float* s = scan.xyz + 3 * i;
+      double p[3];
+      for (int k = 0; k < 3; ++k) p[k] = o[k] + R[3 * k] * s[0] + R[3 * k + 1] * s[1] + R[3 * k + 2] * s[2];
+      if (p[0] > 0.65 && p[0] < 1.95 && std::abs(p[1]) < 0.95) {
+        ++onStage;
+        EXPECT_NEAR(p[2], 0.10, kRes) << p[0] << " " << p[1];
+      } else if ((p[0] < 0.55 || p[0] > 2.05) && p[0] < 2.9 && p[0] > -0.9) {
+        ++onFloor;
+        EXPECT_NEAR(p[2], 0.0, kRes) << p[0] << " " << p[1];
+      }
+    }
+    EXPECT_GT(onStage, 100);
+    EXPECT_GT(onFloor, 100);
+    EXPECT_FALSE(sim.backend.lidarScan(scan));  // taken
   }
-  EXPECT_GT(onStage, 100);
-  EXPECT_GT(onFloor, 100);
-  EXPECT_FALSE(sim.backend.lidarScan(scan));  // taken
 }
 
 TEST_F(MujocoStageMap, TheRobotStandsOnTheStage) {
