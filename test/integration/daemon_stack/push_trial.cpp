@@ -100,6 +100,7 @@ PushOutcome runPushTrial(const PushTrial& trial) {
     if (!robot.run(std::min(0.02, end - robot.t()))) return fell("after the push");
     const control::LoopStatus s = robot.status();
     if (trial.trace) traceLine(trial.trace, robot, s, s.t < pushEnd);
+    out.maxRoll = std::max(out.maxRoll, std::abs(s.truth.rpy[0]));
     for (int foot = 0; foot < 2; ++foot) {
       const bool down = s.contacts[2 * foot];
       if (down && !lastContact[foot]) ++out.touchDowns;
@@ -128,9 +129,10 @@ PushOutcome runPushTrial(const PushTrial& trial) {
   if (walking) {
     out.recoveryTime = velocityBack;
     out.survived = s.mode == control::Mode::kWalk;
-    std::snprintf(line, sizeof line, "%s; velocity back %s%.2f s after the push",
+    std::snprintf(line, sizeof line, "%s; velocity back %s%.2f s after the push; roll up to %.2f rad",
                   out.survived ? "walking" : control::modeName(s.mode),
-                  velocityBack < 0 ? "never (" : "", velocityBack < 0 ? trial.after : velocityBack);
+                  velocityBack < 0 ? "never (" : "", velocityBack < 0 ? trial.after : velocityBack,
+                  out.maxRoll);
     out.message = line;
     if (velocityBack < 0) out.message += ")";
   } else {

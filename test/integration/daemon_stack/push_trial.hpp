@@ -33,6 +33,7 @@ struct PushOutcome {
   double recoveryTime = -1.0;
   bool leftStand = false;  ///< standing: the robot stepped (mode recover)
   int touchDowns = 0;      ///< standing: foot touch-downs after the push started
+  double maxRoll = 0.0;    ///< largest |roll| of the base (truth) from the push on, rad
 };
 
 /// Throws std::runtime_error when the robot cannot be set up (stand-up, walk refused).
