@@ -742,11 +742,11 @@ int main(int argc, char** argv) {
       } else {
         const double still = std::chrono::duration<double>(wall - lastMove).count();
         const json& faults = reply["status"]["faults"];
-        if ((still > 0.5 && faults.is_array() && !faults.empty()) || still > kNoProgress) {
+        const bool faulted = faults.is_array() && !faults.empty();
+        if ((still > 0.5 && faulted) || still > kNoProgress) {
           char at[64];
           std::snprintf(at, sizeof at, "the controller's clock stopped at t = %.3f s", t);
-          std::string why = faults.is_array() && !faults.empty()
-                                ? ": fault " + faults.back().value("kind", "") + ": " +
+          std::string why = faulted ? ": fault " + faults.back().value("kind", "") + ": " +
                                       faults.back().value("message", "")
                                 : " (no tick for " + std::to_string(static_cast<int>(kNoProgress)) +
                                       " s)";
