@@ -389,11 +389,14 @@ class MujocoStageMap : public ::testing::Test {
   static void SetUpTestSuite() {
     // 10 cm stage from x = 0.6 m to 2.0 m, 2 m wide, on a 2 cm map with a floor.
     path_ = ::testing::TempDir() + "mujoco-stage10.bt";
-    const auto tree = maps::makeTerrainMap(maps::stage(0.10, 0.6, 1.4, 2.0), kRes, {-1, 3, -1.5, 1.5});
+    const auto tree = maps::makeTerrainMap(
+        maps::stage(kStage.height, kStage.x0, kStage.x1 - kStage.x0, 2 * kStage.halfWidth), kRes,
+        {-1, 3, -1.5, 1.5});
     std::string error;
     ASSERT_TRUE(maps::writeTerrainMap(*tree, path_, error)) << error;
   }
   static constexpr double kRes = 0.02;
+  static constexpr simbody::test::Stage kStage{0.10, 0.6, 2.0, 1.0};
   static std::string path_;
 };
 std::string MujocoStageMap::path_;
@@ -427,21 +430,11 @@ TEST_F(MujocoStageMap, TheLidarSeesTheStageTopAtItsHeight) {
       EXPECT_NEAR(o[2] - originOnLink[2], 0.1, 0.01);  // the head stands level
       EXPECT_NEAR(R[6], -std::sin(0.2), 0.02);          // the x axis pitched down by 0.2 rad
     }
-    int onStage = 0, onFloor = 0;
-    for (int i = 0; i < scan.count; ++i) {
-      const float* s = scan.xyz + 3 * i;
-      double p[3];
-      for (int k = 0; k < 3; ++k) p[k] = o[k] + R[3 * k] * s[0] + R[3 * k + 1] * s[1] + R[3 * k + 2] * s[2];
-      if (p[0] > 0.65 && p[0] < 1.95 && std::abs(p[1]) < 0.95) {
-        ++onStage;
-        EXPECT_NEAR(p[2], 0.10, kRes) << p[0] << " " << p[1];
-      } else if ((p[0] < 0.55 || p[0] > 2.05) && p[0] < 2.9 && p[0] > -0.9) {
-        ++onFloor;
-        EXPECT_NEAR(p[2], 0.0, kRes) << p[0] << " " << p[1];
-      }
-    }
-    EXPECT_GT(onStage, 100);
-    EXPECT_GT(onFloor, 100);
+    const auto sorted = simbody::test::sortScanOnStage(scan, o, R, kStage, 0.05, -0.9, 2.9);
+    EXPECT_GT(sorted.onStage, 100);
+    EXPECT_GT(sorted.onFloor, 100);
+    EXPECT_LT(std::max(sorted.stageError, sorted.floorError), kRes)
+        << "worst point " << sorted.worst[0] << " " << sorted.worst[1] << " " << sorted.worst[2];
     EXPECT_FALSE(sim.backend.lidarScan(scan));  // taken
   }
 }

@@ -509,11 +509,14 @@ class StageMap : public ::testing::Test {
   static void SetUpTestSuite() {
     // 10 cm stage from x = 0.6 m to 2.0 m, 2 m wide, on a 2 cm map with a floor.
     path_ = ::testing::TempDir() + "stage10.bt";
-    const auto tree = maps::makeTerrainMap(maps::stage(0.10, 0.6, 1.4, 2.0), kRes, {-1, 3, -1.5, 1.5});
+    const auto tree = maps::makeTerrainMap(
+        maps::stage(kStage.height, kStage.x0, kStage.x1 - kStage.x0, 2 * kStage.halfWidth), kRes,
+        {-1, 3, -1.5, 1.5});
     std::string error;
     ASSERT_TRUE(maps::writeTerrainMap(*tree, path_, error)) << error;
   }
   static constexpr double kRes = 0.02;
+  static constexpr Stage kStage{0.10, 0.6, 2.0, 1.0};
   static std::string path_;
 };
 std::string StageMap::path_;
@@ -536,20 +539,16 @@ TEST_F(StageMap, TheLidarSeesTheStageTopAtItsHeight) {
   EXPECT_EQ(scan.sensor_origin[2], 0.0);
   const SimTK::Transform X_GL = sim.backend.world().lidarPose();
   EXPECT_GT(X_GL.p()[2], 1.3);  // the head
-  int onStage = 0, onFloor = 0;
-  for (int i = 0; i < scan.count; ++i) {
-    const SimTK::Vec3 w = X_GL * SimTK::Vec3(scan.xyz[3 * i], scan.xyz[3 * i + 1], scan.xyz[3 * i + 2]);
-    const double p[3] = {w[0], w[1], w[2]};
-    if (p[0] > 0.65 && p[0] < 1.95 && std::abs(p[1]) < 0.95) {
-      ++onStage;
-      EXPECT_NEAR(p[2], 0.10, kRes) << p[0] << " " << p[1];
-    } else if ((p[0] < 0.55 || p[0] > 2.05) && p[0] < 2.9 && p[0] > -0.9) {
-      ++onFloor;
-      EXPECT_NEAR(p[2], 0.0, kRes) << p[0] << " " << p[1];
-    }
+  double o[3], R[9];
+  for (int i = 0; i < 3; ++i) {
+    o[i] = X_GL.p()[i];
+    for (int j = 0; j < 3; ++j) R[3 * i + j] = X_GL.R()[i][j];
   }
-  EXPECT_GT(onStage, 100);
-  EXPECT_GT(onFloor, 100);
+  const auto sorted = sortScanOnStage(scan, o, R, kStage, 0.05, -0.9, 2.9);
+  EXPECT_GT(sorted.onStage, 100);
+  EXPECT_GT(sorted.onFloor, 100);
+  EXPECT_LT(std::max(sorted.stageError, sorted.floorError), kRes)
+      << "worst point " << sorted.worst[0] << " " << sorted.worst[1] << " " << sorted.worst[2];
   EXPECT_FALSE(sim.backend.lidarScan(scan));  // taken
 }
 
