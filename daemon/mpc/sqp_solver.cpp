@@ -32,6 +32,7 @@ SqpSolver::SqpSolver(const OptimalControlProblem& problem, const SqpSettings& se
       u_(settings.nodes, Eigen::VectorXd::Zero(problem.nu())),
       xTrial_(x_),
       uTrial_(u_),
+      zeroDx0_(Eigen::VectorXd::Zero(problem.nx())),
       nodeCost_(settings.nodes + 1),
       nodeViolation2_(settings.nodes + 1),
       projected_(settings.nodes),
@@ -165,7 +166,7 @@ bool SqpSolver::iterate(double t0, const Eigen::VectorXd& xMeasured) {
   // LQ subproblem: the sweep's forward pass.
   if (!sweepOk_) return fail("the projected cost Hessian is not positive definite");
   t = Clock::now();
-  riccati_.forwardPass(lq_, Eigen::VectorXd::Zero(problem_.nx()), dx_, du_);
+  riccati_.forwardPass(lq_, zeroDx0_, dx_, du_);
   stats_.riccatiMs += msSince(t);
   if (!finite(dx_) || !finite(du_)) return fail("the LQ step has NaN or infinite entries");
 

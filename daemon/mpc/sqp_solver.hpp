@@ -98,6 +98,7 @@ class SqpSolver {
   std::vector<LqNode> lq_;
   std::vector<NodeValue> values_;
   std::vector<Eigen::VectorXd> x_, u_, xTrial_, uTrial_, dx_, du_;
+  Eigen::VectorXd zeroDx0_;  ///< the LQ step starts at the measured state: δx₀ = 0
   std::vector<double> nodeCost_, nodeViolation2_;
   std::vector<char> projected_;
   /// Per node: its projection is done (set by the thread that projected it, read by the sweep).

@@ -338,7 +338,9 @@ TEST_F(Kinodynamic, TheSolutionIsTheSameOnOneThreadAsOnSeveral) {
   for (size_t i = 1; i < solutions.size(); ++i)
     for (int k = 0; k <= 30; ++k) {
       ASSERT_EQ(solutions[i].x[k], solutions[0].x[k]) << "threads " << i + 1 << ", node " << k;
-      if (k < 30) ASSERT_EQ(solutions[i].u[k], solutions[0].u[k]) << "threads " << i + 1 << ", node " << k;
+      if (k < 30) {
+        ASSERT_EQ(solutions[i].u[k], solutions[0].u[k]) << "threads " << i + 1 << ", node " << k;
+      }
     }
 }
 
