@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "gait/cadence.hpp"
 #include "model/algorithms.hpp"
 
 namespace ballast::locomotion {
@@ -227,7 +228,9 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
   if (recovering_) {
     next = recoveryGait_;
   } else if (command.walk) {
-    next = settings_.walkGait;
+    // Faster, shorter cycles (gait/cadence.hpp), at the commanded speed as it slews.
+    next = gait::gaitAtSpeed(settings_.walkGait, std::hypot(command.vx, command.vy),
+                             settings_.swing.limits.maxForward, settings_.maxSwingSpeed);
     if (schedule_.latestGait().walking) next.rightFirst = schedule_.latestGait().rightFirst;
     // Step timing, walking on the capture point's footholds: a step the capture point asks
     // beyond the step limits (a push) comes sooner, and so does the one after it.

@@ -92,6 +92,9 @@ struct LocomotionSettings {
   /// out the velocity the body still carries (the slewed command stops before the robot does).
   double stopDelay;                     ///< s
   gait::Gait walkGait;                  ///< walking (the profile layer sets it so)
+  /// Walking faster, the cycle and its double support shorten so that a swing foot's mean
+  /// speed stays within this and a step within swing.limits.maxForward (gait/cadence.hpp).
+  double maxSwingSpeed;                 ///< m/s; 0: no limit
   /// Walking from standing begins this long after it is asked for: the plan shifts the weight
   /// onto the first stance foot in double support meanwhile (the schema's default says why).
   /// The commanded velocity starts slewing then too.
