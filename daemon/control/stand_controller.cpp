@@ -35,8 +35,12 @@ StandController::StandController(const model::Model& model, const ControlSetting
       q_(model::VecX<double>::Zero(model.nq)),
       v_(model::VecX<double>::Zero(model.nv)),
       Jc_(model::MatX<double>::Zero(3 * kNumContacts, model.nv)) {
-  for (int c = 0; c < kNumContacts; ++c)
+  for (int c = 0; c < kNumContacts; ++c) {
     contact_frame_[c] = model.frameId(settings.contact_frames[c]);
+    // Feet: the contact points on the first one's body, and the others.
+    foot_of_contact_[c] =
+        model.frames[contact_frame_[c]].body == model.frames[contact_frame_[0]].body ? 0 : 1;
+  }
   pose_ = {posture_.nominalHeight(), 0.0, 0.0, 0.0};
   posture_.solve(pose_[0], 0, 0, 0, 20, target_.data());
 }
@@ -47,9 +51,30 @@ void StandController::setSettings(const ControlSettings& settings) {
   posture_.solve(pose_[0], pose_[1], pose_[2], pose_[3], 20, target_.data());
 }
 
+bool StandController::feetDown(const EstimatedState& state) const {
+  bool down[2] = {false, false};
+  for (int c = 0; c < kNumContacts; ++c) down[foot_of_contact_[c]] |= state.contact[c];
+  return down[0] && down[1];
+}
+
+void StandController::anchorFeet(const EstimatedState& state, StandPosture::AnchorPart part) {
+  posture_.anchor(model::quaternionToRotation<double>(state.base.orientation), state.q, part);
+}
+
 void StandController::beginStandUp(const EstimatedState& state) {
   for (int j = 0; j < model_.nj(); ++j) stand_up_from_[j] = state.q[j];
   pose_ = {posture_.nominalHeight(), 0.0, 0.0, 0.0};
+  if (feetDown(state))
+    anchorFeet(state, StandPosture::AnchorPart::kWhole);
+  else
+    posture_.unanchor();
+  // The base's pose over the feet now: where stand-up moves it from.
+  const model::SE3<double> base =
+      posture_.baseInStance(model::quaternionToRotation<double>(state.base.orientation));
+  const model::Vec3<double> zyx = model::zyxFromRotation(base.R);
+  stand_up_pose_ = {base.p.x(), base.p.y(), base.p.z(), zyx[2], zyx[1], zyx[0]};
+  posture_.warmStart(state.q);
+  first_tick_ = true;
 }
 
 void StandController::gravityFeedForward(const EstimatedState& state, double* tau) {
@@ -94,16 +119,37 @@ void StandController::compute(const ControllerInput& in, const double* kp, const
   const int nj = model_.nj();
   const EstimatedState& st = in.state;
 
+  // Standing up, the stance is the feet where they lie: taken whole when both are first down,
+  // then their height and tilt as they settle under the robot's weight (see the header).
+  if (in.mode == Mode::kStandUp && feetDown(st))
+    anchorFeet(st, posture_.anchored() ? StandPosture::AnchorPart::kHeightAndTilt
+                                       : StandPosture::AnchorPart::kWhole);
   // Move the tracked pose toward the command, rate-limited, and solve the legs for it.
   const double lin = s.pose_speed * dt, ang = s.pose_angular_speed * dt;
   pose_[0] = approach(pose_[0], in.command.height, lin);
   pose_[1] = approach(pose_[1], in.command.roll, ang);
   pose_[2] = approach(pose_[2], in.command.pitch, ang);
   pose_[3] = approach(pose_[3], in.command.yaw, ang);
-  posture_.solve(pose_[0], pose_[1], pose_[2], pose_[3], 2, target_.data());
-
   double blend = 1.0;
   if (in.mode == Mode::kStandUp) blend = smoothstep(std::clamp(in.stand_up_progress, 0.0, 1.0));
+  // Anchored, stand-up moves the base from where it stood over the feet to the pose, the legs
+  // solved for it every tick (the feet stay where they are throughout); otherwise the legs blend
+  // in joint space from their posture at the start to the pose's.
+  const bool moveBase = in.mode == Mode::kStandUp && posture_.anchored();
+  const int iterations = first_tick_ ? 20 : 2;
+  first_tick_ = false;
+  if (moveBase) {
+    const std::array<double, 6>& a = stand_up_pose_;
+    const double b = blend;
+    const double rpy[3] = {a[3] + b * (pose_[1] - a[3]), a[4] + b * (pose_[2] - a[4]),
+                           a[5] + b * (pose_[3] - a[5])};
+    const model::SE3<double> base{
+        model::rotationFromZyx(model::Vec3<double>(rpy[2], rpy[1], rpy[0])),
+        model::Vec3<double>((1.0 - b) * a[0], (1.0 - b) * a[1], a[2] + b * (pose_[0] - a[2]))};
+    posture_.solve(base, iterations, target_.data());
+  } else {
+    posture_.solve(pose_[0], pose_[1], pose_[2], pose_[3], iterations, target_.data());
+  }
 
   if (s.gravity_compensation)
     gravityFeedForward(st, tau_.data());
@@ -113,7 +159,8 @@ void StandController::compute(const ControllerInput& in, const double* kp, const
   double limbError2 = 0.0;
   for (int j = 0; j < nj; ++j) {
     const double ref = stand_up_from_[j] + blend * (target_[j] - stand_up_from_[j]);
-    const double qref = in.mode == Mode::kStandUp ? ref : target_[j];
+    const double qref =
+        in.mode == Mode::kStandUp && !(moveBase && posture_.inLeg(j)) ? ref : target_[j];
     backend::JointCommand& c = out.joint[j];
     c.q_des = qref;
     c.dq_des = 0.0;

@@ -7,8 +7,19 @@
 // contact), the contact forces of least norm that carry the base, Jc,bᵀ f = n_b (6 equations),
 // leave the joints τ = n_j − Jc,jᵀ f. Without contacts (robot lifted) it is n_j.
 //
-// Reference posture: stand-up blends from the posture at its start to the standing posture
-// with a quintic smoothstep (zero velocity and acceleration at both ends), with the full
+// Stance: stand-up anchors the standing posture to the feet as they lie (StandPosture::anchor):
+// the base level over them at their mean height and heading, the soles kept at their tilt. On
+// uneven ground the legs take up the unevenness instead of the body tilting with the feet. The
+// whole placement is taken once, when both feet are down; then every tick of stand-up their height
+// and tilt as they settle under the weight (taken whole every tick, the stance gave way to
+// whatever the feet did: nothing pulled a foot that turned or slid back, and on sim-rough the
+// robot turned 0.66 rad on its feet). Standing, the stance stays as stand-up left it (the `pose`
+// command is relative to it); without both feet down, the nominal stance.
+//
+// Reference posture: anchored, stand-up moves the base from its pose over the feet at the start
+// to the standing pose (position and roll, pitch, yaw each blended), the legs solved for it every
+// tick; the other joints, and all of them unanchored, blend from the posture at its start to the
+// standing posture, with a quintic smoothstep (zero velocity and acceleration at both ends), with the full
 // feed-forward from the start (fading it in lets the knees sag and the robot tip over
 // backwards: measured on the Simbody backend); stand tracks StandPosture for the commanded pose,
 // the pose itself moved toward the command at control.pose_speed / pose_angular_speed. Gains come
@@ -46,6 +57,10 @@ class StandController {
   void gravityFeedForward(const EstimatedState& state, double* tau);
 
  private:
+  /// Both feet have a contact point in contact.
+  bool feetDown(const EstimatedState& state) const;
+  void anchorFeet(const EstimatedState& state, StandPosture::AnchorPart part);
+
   const model::Model& model_;
   const ControlSettings* settings_;
   StandPosture posture_;
@@ -53,11 +68,15 @@ class StandController {
   model::VecX<double> q_, v_;
   model::MatX<double> Jc_;  // contact-point Jacobians, 3 rows per point
   std::array<int, kNumContacts> contact_frame_{};
+  std::array<int, kNumContacts> foot_of_contact_{};  // 0: the first contact's body, 1: the other
   std::array<double, kMaxJoints> stand_up_from_{};
   std::array<double, kMaxJoints> target_{};
   std::array<double, kMaxJoints> tau_{};
   // The pose being tracked, moving toward the command: height, roll, pitch, yaw.
   std::array<double, 4> pose_{};
+  // Stand-up's start over the feet: x, y, height in the stance frame; roll, pitch, yaw.
+  std::array<double, 6> stand_up_pose_{};
+  bool first_tick_ = false;
 };
 
 /// Zero torque and gains: the joints are free.

@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <memory>
 
 #include "control/stand_controller.hpp"
 #include "control/stand_posture.hpp"
@@ -61,6 +64,131 @@ TEST(StandPosture, FeetStayWhereTheNominalStancePutsThem) {
     }
     // Arms keep the nominal posture.
     EXPECT_DOUBLE_EQ(qj[m.jointId("left_elbow")], s.nominal_q[m.jointId("left_elbow")]);
+  }
+}
+
+/// Feet on uneven ground: the nominal legs bent unevenly under a base rolled, pitched and turned
+/// (soles tilted about 0.1 rad, 3-5 cm apart in height), as a robot dropped onto rough ground
+/// lands. Joints in `qj`, the base's orientation returned.
+Mat3<double> unevenFeet(const Model& m, const ControlSettings& s, double* qj) {
+  for (int j = 0; j < m.nj(); ++j) qj[j] = s.nominal_q[j];
+  qj[m.jointId("left_hip_pitch")] -= 0.12;
+  qj[m.jointId("left_knee")] += 0.2;
+  qj[m.jointId("left_hip_roll")] += 0.04;
+  qj[m.jointId("right_ankle_pitch")] += 0.1;
+  qj[m.jointId("right_ankle_roll")] -= 0.07;
+  return rotationFromZyx(Vec3<double>(0.3, -0.05, 0.06));
+}
+
+/// Whether, with the base level at the feet's mean heading, joints qj put the four contact
+/// frames where `feet` has them (one translation for all: the base's place is free), and the
+/// base at `height` above the two soles' mean, horizontally where the nominal stance has it.
+void expectLevelBaseOnTheFeet(const Model& m, const ControlSettings& s, double height,
+                              const std::vector<SE3<double>>& feet, const double* qj) {
+  Data<double> d(m);
+  const char* names[] = {"left_toe", "left_heel", "right_toe", "right_heel"};
+  const double yaw = std::atan2(std::sin(std::atan2(feet[0].R(1, 0), feet[0].R(0, 0))) +
+                                    std::sin(std::atan2(feet[2].R(1, 0), feet[2].R(0, 0))),
+                                std::cos(std::atan2(feet[0].R(1, 0), feet[0].R(0, 0))) +
+                                    std::cos(std::atan2(feet[2].R(1, 0), feet[2].R(0, 0))));
+  std::vector<SE3<double>> level;  // base at the origin, level, at the feet's heading
+  Vec3<double> shift = Vec3<double>::Zero();
+  for (int k = 0; k < 4; ++k) {
+    level.push_back(frameAt(m, d, names[k], 0.0, 0.0, 0.0, yaw, qj));
+    shift += 0.25 * (feet[k].p - level[k].p);
+  }
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_LT((level[k].p + shift - feet[k].p).norm(), 1e-6) << names[k];
+    EXPECT_LT((level[k].R - feet[k].R).norm(), 1e-6) << names[k];
+  }
+  // `shift` is the base's place under the feet: height above the soles' mean (the first frame
+  // of each foot), and the nominal stance's horizontal offset from the feet, turned by yaw.
+  const Vec3<double> soles = 0.5 * (feet[0].p + feet[2].p);
+  EXPECT_NEAR(shift.z() - soles.z(), height, 1e-6);
+  const SE3<double> l0 = frameAt(m, d, "left_toe", 0, 0, 0, 0, s.nominal_q.data());
+  const SE3<double> r0 = frameAt(m, d, "right_toe", 0, 0, 0, 0, s.nominal_q.data());
+  const Vec3<double> offset =
+      rotationFromZyx(Vec3<double>(yaw, 0, 0)) * (0.5 * (l0.p + r0.p));
+  EXPECT_NEAR(soles.x() - shift.x(), offset.x(), 1e-6);
+  EXPECT_NEAR(soles.y() - shift.y(), offset.y(), 1e-6);
+}
+
+TEST(StandPosture, AnchoredALevelBaseStandsOnTheFeetWhereTheyAre) {
+  const Model& m = test::humanoid();
+  const ControlSettings s = simFlat();
+  StandPosture posture(m, s);
+  Data<double> d(m);
+  double q0[kMaxJoints];
+  const Mat3<double> R0 = unevenFeet(m, s, q0);
+  const Vec3<double> zyx0 = zyxFromRotation(R0);
+  const char* names[] = {"left_toe", "left_heel", "right_toe", "right_heel"};
+  std::vector<SE3<double>> feet;
+  for (const char* f : names) feet.push_back(frameAt(m, d, f, 1.0, zyx0[2], zyx0[1], zyx0[0], q0));
+  // The feet are uneven: tilted soles at different heights.
+  ASSERT_GT(std::abs(feet[0].p.z() - feet[2].p.z()), 0.02);
+  ASSERT_GT(std::acos(std::clamp(feet[0].R(2, 2), -1.0, 1.0)), 0.08);
+
+  posture.anchor(R0, q0);
+  EXPECT_TRUE(posture.anchored());
+  double qj[kMaxJoints];
+  EXPECT_LT(posture.solve(posture.nominalHeight(), 0, 0, 0, 50, qj), 1e-9);
+  expectLevelBaseOnTheFeet(m, s, posture.nominalHeight(), feet, qj);
+
+  // On a flat floor with the feet where the nominal stance has them (here turned by 0.4 rad),
+  // the anchored stance is the nominal one: the same postures for every pose.
+  StandPosture nominal(m, s);
+  posture.anchor(rotationFromZyx(Vec3<double>(0.4, 0, 0)), s.nominal_q.data());
+  const double poses[][4] = {{0.80, 0, 0, 0}, {0.85, 0.1, -0.05, 0.2}};
+  for (const auto& p : poses) {
+    double qa[kMaxJoints], qn[kMaxJoints];
+    posture.solve(p[0], p[1], p[2], p[3], 30, qa);
+    nominal.solve(p[0], p[1], p[2], p[3], 30, qn);
+    for (int j = 0; j < m.nj(); ++j) EXPECT_NEAR(qa[j], qn[j], 1e-9) << "joint " << j;
+  }
+  posture.unanchor();
+  EXPECT_FALSE(posture.anchored());
+}
+
+TEST(StandController, StandsUpToALevelBaseOverUnevenFeet) {
+  const Model& m = test::humanoid();
+  const ControlSettings s = simFlat();
+  StandController controller(m, s);
+  Data<double> d(m);
+  ControllerInput in;
+  in.mode = Mode::kStandUp;
+  in.state.num_joints = m.nj();
+  const Mat3<double> R0 = unevenFeet(m, s, in.state.q);
+  const Eigen::Vector4d quat = quaternionXyzwFromRotation(R0);
+  for (int i = 0; i < 4; ++i) in.state.base.orientation[i] = quat[i];
+  for (bool& c : in.state.contact) c = true;
+  const Vec3<double> zyx0 = zyxFromRotation(R0);
+  const char* names[] = {"left_toe", "left_heel", "right_toe", "right_heel"};
+  std::vector<SE3<double>> feet;
+  for (const char* f : names)
+    feet.push_back(frameAt(m, d, f, 1.0, zyx0[2], zyx0[1], zyx0[0], in.state.q));
+  in.command.height = controller.nominalHeight();
+
+  std::vector<double> kp(m.nj(), 300.0), kd(m.nj(), 8.0);
+  auto out = std::make_unique<ControllerOutput>();
+  controller.beginStandUp(in.state);
+  const int ticks = 1000;  // stand-up over 1 s at 1 kHz
+  for (int i = 1; i <= ticks; ++i) {
+    in.stand_up_progress = double(i) / ticks;
+    controller.compute(in, kp.data(), kd.data(), 1e-3, *out);
+  }
+  expectLevelBaseOnTheFeet(m, s, controller.nominalHeight(), feet, out->q_ref);
+
+  // With a foot off the ground the stance is the nominal one: the soles level.
+  StandController lifted(m, s);
+  in.state.contact[2] = in.state.contact[3] = false;  // the right foot's points
+  lifted.beginStandUp(in.state);
+  for (int i = 1; i <= ticks; ++i) {
+    in.stand_up_progress = double(i) / ticks;
+    lifted.compute(in, kp.data(), kd.data(), 1e-3, *out);
+  }
+  for (const char* f : names) {
+    const SE3<double> p = frameAt(m, d, f, 1.0, 0, 0, 0, out->q_ref);
+    EXPECT_NEAR(p.R(2, 2), 1.0, 1e-9) << f;
   }
 }
 
