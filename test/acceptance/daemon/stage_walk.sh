@@ -13,10 +13,11 @@
 #   lidar   as up, after `ballast map clear`: the planner knows only what the robot's lidar has
 #           seen since (the simulation keeps the stage).
 # Every way: the robot is never damped and stands again after the stop. Lockstep, or real time
-# with BALLAST_ACCEPTANCE_REALTIME=1.
-# Usage: stage_walk.sh BALLASTD BALLAST PROFILE BALLAST_MKMAP HEIGHT [WAY]
+# with BALLAST_ACCEPTANCE_REALTIME=1. AFTER (default 0): seconds between reaching stand and the
+# walk command, which moves the gait's phase at the edge.
+# Usage: stage_walk.sh BALLASTD BALLAST PROFILE BALLAST_MKMAP HEIGHT [WAY [AFTER]]
 . "$(dirname "$0")/lib.sh"
-MKMAP=$4 HEIGHT=$5 WAY=${6:-up}
+MKMAP=$4 HEIGHT=$5 WAY=${6:-up} AFTER=${7:-0}
 EDGE=1.5
 case $WAY in
   up | lidar) DEPTH=3 WALK=7 END=$EDGE RISE=$HEIGHT ;;
@@ -41,6 +42,7 @@ wait_until "stand" 30 mode_is stand
 # The walk starts on an empty map: not even the floor under the feet is known (the lidar's
 # lowest line meets the floor 1 m ahead).
 [ "$WAY" != lidar ] || ballast map clear >/dev/null || fail "map clear"
+[ "$AFTER" = 0 ] || { advance_by "$AFTER"; never_damped; }
 x0=$(field truth.base.position.0) z0=$(field truth.base.position.2)
 ballast walk --vx 0.4 --for 60s >/dev/null || fail "walk"
 wait_until "the loop to take the walk command" 10 mode_is walk
