@@ -472,8 +472,8 @@ the default: Simbody simulation, flat floor
 .I profiles/sim\-stage.yaml, profiles/sim\-rough.yaml
 simulation with a stage to step onto, and on rough ground
 .TP
-.I profiles/sim\-flat\-mujoco.yaml, profiles/sim\-stage\-mujoco.yaml
-sim\-flat and sim\-stage on the MuJoCo simulation: only the backend differs
+.I profiles/sim\-flat\-mujoco.yaml, profiles/sim\-stage\-mujoco.yaml, profiles/sim\-rough\-mujoco.yaml
+sim\-flat, sim\-stage and sim\-rough on the MuJoCo simulation: only the backend differs
 .TP
 .I profiles/hardware\-example.yaml
 a SocketCAN robot: a template to adapt

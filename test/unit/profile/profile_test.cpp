@@ -498,7 +498,7 @@ TEST(ShippedProfiles, LoadAndCheckAgainstTheModel) {
   const Profile flat = Profile::load(std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat.yaml");
   EXPECT_EQ(flat.text("backend.name"), "simbody");
   // The MuJoCo profiles are the Simbody ones with another backend.
-  for (const char* name : {"sim-flat", "sim-stage"}) {
+  for (const char* name : {"sim-flat", "sim-stage", "sim-rough"}) {
     const Profile simbody = Profile::load(std::string(BALLAST_SOURCE_DIR) + "/profiles/" + name + ".yaml");
     const Profile mujoco =
         Profile::load(std::string(BALLAST_SOURCE_DIR) + "/profiles/" + name + "-mujoco.yaml");

@@ -1,0 +1,47 @@
+#!/bin/sh
+# Walking on rough ground through the CLI (issue 14 §3): the profile's rough ground (sim-rough:
+# 20 cm patches at random heights from 0 to 4 cm, seed 1) made long enough for the walk
+# (ballast-mkmap, the same patches from x = -2 m to 16 m; the simulation and the planner both
+# take it from terrain.map), standing up on it, then `ballast walk --vx VX` for SECONDS s.
+# Passes when the robot is never damped and, over the walk (ground truth, recorded), the base
+# covered at least 80 % of VX x SECONDS forward, its roll and pitch stayed within 0.25 rad and
+# its height above z = 0 within 0.8 to 1.0 m (nominal 0.89 m over patches 0 to 4 cm high).
+# Usage: rough_walk.sh BALLASTD BALLAST PROFILE BALLAST_MKMAP VX SECONDS
+. "$(dirname "$0")/lib.sh"
+MKMAP=$4 VX=$5 SECONDS_WALKED=$6
+
+"$MKMAP" rough -o "$WORK/rough.bt" --extent -2 16 -2 2 --amplitude 0.04 --patch 0.2 --seed 1 \
+  >/dev/null || fail "ballast-mkmap"
+DAEMON_PROFILE=$WORK/rough.yaml
+printf 'extends: %s\nterrain:\n  map: %s\n' "$PROFILE" "$WORK/rough.bt" >"$DAEMON_PROFILE"
+
+start_daemon
+wait_until "stand" 30 mode_is stand
+for_seconds 1
+ballast record start "$WORK/walk.tsv" >/dev/null || fail "record start"
+x0=$(field truth.base.position.0)
+ballast walk --vx "$VX" --for "$(calc "$SECONDS_WALKED + 5")s" >/dev/null || fail "walk"
+wait_until "the loop to take the walk command" 10 mode_is walk
+for_seconds "$SECONDS_WALKED"
+ballast record stop >/dev/null || fail "record stop"
+x1=$(field truth.base.position.0)
+[ "$(field mode)" = walk ] || fail "stopped walking before the command's end"
+motion_report "$WORK/walk.tsv"
+awk -F '\t' -v x0="$x0" -v x1="$x1" -v vx="$VX" -v s="$SECONDS_WALKED" '
+  function abs(a) { return a < 0 ? -a : a }
+  /^# t\t/ { for (i = 2; i <= NF; ++i) col[$i] = i; next }
+  /^#/ { next }
+  {
+    r = abs($(col["true_roll"])); p = abs($(col["true_pitch"])); z = $(col["true_z"])
+    if (n == 0 || r > rmax) rmax = r
+    if (n == 0 || p > pmax) pmax = p
+    if (n == 0 || z < zmin) zmin = z
+    if (n == 0 || z > zmax) zmax = z
+    n++
+  }
+  END {
+    printf "walked %.2f m in %s s (command %s m/s): roll max %.3f rad, pitch max %.3f rad, height %.3f to %.3f m over %d samples\n", x1 - x0, s, vx, rmax, pmax, zmin, zmax, n
+    exit !(n > 0 && x1 - x0 >= 0.8 * vx * s && rmax <= 0.25 && pmax <= 0.25 && zmin >= 0.8 && zmax <= 1.0)
+  }' "$WORK/walk.tsv" || fail "off the bars (distance, roll, pitch or height)"
+stop_daemon
+echo "ok: walked on rough ground"
