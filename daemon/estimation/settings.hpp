@@ -63,6 +63,11 @@ struct EstimatorSettings {
   double contactForceThreshold;  ///< N: foot normal force that confirms a scheduled contact
   /// Fraction of the threshold below which a confirmed contact is released (hysteresis).
   double contactForceRelease;
+  /// s: while the plan has a confirmed point in stance, its force must stay under the release
+  /// level this long before the point is released (a landing's bounce, a stretched leg whose
+  /// load the joints barely see, is not a lift-off). A point the plan has in swing is released
+  /// at once. 0: released at the first tick under the release level.
+  double contactForceReleaseTime;
   double contactForceBandwidth;  ///< 1/s, the momentum observer's gain (time constant 1/K)
   /// External force (external_force_observer.hpp, same kind of observer): horizontal forces
   /// under this read as none (model errors), larger ones are reported less this.

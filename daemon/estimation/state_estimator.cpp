@@ -76,6 +76,7 @@ void StateEstimator::reset(double x, double y) {
   external_.reset();
   confirmed_.fill(false);
   stance_.fill(false);
+  unloaded_.fill(0.0);
 }
 
 AttitudeFilter::Noise StateEstimator::attitudeNoise() const {
@@ -190,10 +191,23 @@ EstimatorStatus StateEstimator::update(const EstimatorInput& in, EstimatorOutput
     external_.update(momentum, forces, model_.totalMass() * model_.gravity, dt,
                      s.externalForceBandwidth, s.contactForceBandwidth);
   }
+  // A landed foot that the plan keeps in stance is not dropped by a transient: after a step
+  // down the landing bounces and the leg stretches, the estimated force flickers under the
+  // release level for tens of ms while the foot carries the robot, and a point counted out of
+  // stance there leaves the filter to the IMU alone. Only low force held for
+  // contactForceReleaseTime (or the plan's swing) releases it.
   bool anyStance = false;
   for (int c = 0; c < kContactPoints; ++c) {
     const double fz = observer_.footForce(c).z();
-    confirmed_[c] = fz >= (confirmed_[c] ? s.contactForceRelease : 1.0) * s.contactForceThreshold;
+    if (!confirmed_[c]) {
+      confirmed_[c] = fz >= s.contactForceThreshold;
+      unloaded_[c] = 0.0;
+    } else if (fz >= s.contactForceRelease * s.contactForceThreshold) {
+      unloaded_[c] = 0.0;
+    } else {
+      unloaded_[c] += dt;
+      confirmed_[c] = in.scheduledStance[c] && unloaded_[c] < s.contactForceReleaseTime;
+    }
     stance_[c] = in.scheduledStance[c] && (!s.contactForceCheck || confirmed_[c]);
     anyStance = anyStance || stance_[c];
   }

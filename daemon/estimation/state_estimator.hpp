@@ -10,7 +10,9 @@
 //                                 point (world axes); M(q) and n(q, v) for step 3
 //   3. contact                    stance_i = scheduled_i (the planner's) and, with
 //                                 contactForceCheck, the estimated normal force over the
-//                                 threshold (hysteresis down to release·threshold); forces from
+//                                 threshold (hysteresis down to release·threshold, held
+//                                 through contactForceReleaseTime of low force while the plan
+//                                 has the point in stance); forces from
 //                                 the joint torques by a momentum observer (contact_force_observer.hpp);
 //                                 the external force from the robot's linear momentum and those
 //                                 forces (external_force_observer.hpp)
@@ -155,6 +157,7 @@ class StateEstimator {
   Eigen::VectorXd q_, v_;  // model configuration and velocity (base at the origin)
   std::array<Eigen::Vector3d, kContactPoints> d_{}, dDot_{};  // contact points rel. to the IMU point
   std::array<bool, kContactPoints> confirmed_{}, stance_{};
+  std::array<double, kContactPoints> unloaded_{};  // s a confirmed point's force has been low
   Eigen::Vector3d resetPosition_ = Eigen::Vector3d::Zero();
   double lastTime_ = 0.0;
   bool started_ = false;  // the filter holds an estimate

@@ -27,7 +27,7 @@ const std::vector<double EstimatorSettings::*>& numbers() {
       &S::kinematicsVelocityNoise, &S::kinematicsVelocityGate,  &S::footHeightNoise,
       &S::contactDriftNoise,       &S::swingNoiseScale,         &S::initialPositionNoise,
       &S::initialVelocityNoise,    &S::contactForceThreshold,   &S::contactForceRelease,
-      &S::contactForceBandwidth};
+      &S::contactForceReleaseTime, &S::contactForceBandwidth};
   return fields;
 }
 

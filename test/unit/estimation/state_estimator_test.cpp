@@ -169,6 +169,52 @@ TEST(StateEstimator, AFootOnItsHeelKeepsItsToeInStance) {
   EXPECT_NEAR(out.contactForce[0].z(), 0.0, 1.0);
 }
 
+TEST(StateEstimator, ALandedFootInPlannedStanceOutlastsAShortDropInItsForce) {
+  // A landing bounces and a stretched leg hides its load: the right foot's estimated force
+  // falls to nothing for 20 ms while the plan keeps it in stance. It stays in stance; held
+  // low past estimator.contact_force_release_time it is released; with the plan's swing, at
+  // once.
+  Standing s;
+  EstimatorSettings settings = estimatorSettings();
+  ASSERT_GT(settings.contactForceReleaseTime, 0.03);
+  // The force estimate follows the torques within a tick: what is tested is the decision, not
+  // the observer's lag.
+  settings.contactForceBandwidth = 1000.0;
+  StateEstimator est(s.m, settings);
+  EstimatorInput in = est.makeInput();
+  std::array<Vector3d, kContactPoints> unloadedRight = s.weightOnAll();
+  unloadedRight[0] *= 2;
+  unloadedRight[1] *= 2;
+  unloadedRight[2] = unloadedRight[3] = Vector3d::Zero();
+  EstimatorOutput out;
+  int k = 0;
+  auto run = [&](int ticks, const std::array<Vector3d, kContactPoints>& force) {
+    bool always = true;
+    for (int i = 0; i < ticks; ++i, ++k) {
+      s.fill(in, 0.001 * k, force);
+      est.update(in, out);
+      always = always && out.stance[2] && out.stance[3];
+    }
+    return always;
+  };
+  EXPECT_TRUE(run(200, s.weightOnAll()));
+  EXPECT_TRUE(run(20, unloadedRight)) << "a 20 ms drop released the foot";
+  EXPECT_TRUE(run(100, s.weightOnAll()));
+  // Low for longer than the release time: a lift-off the plan did not have.
+  run(static_cast<int>(settings.contactForceReleaseTime / 0.001) + 40, unloadedRight);
+  EXPECT_FALSE(out.stance[2] || out.stance[3]);
+  EXPECT_TRUE(out.stance[0] && out.stance[1]);
+  // Loaded again, confirmed again; then the plan's swing with the force gone: released at once,
+  // and scheduled again while still unloaded, not in stance.
+  run(100, s.weightOnAll());
+  EXPECT_TRUE(out.stance[2] && out.stance[3]);
+  in.scheduledStance = {true, true, false, false};
+  run(2, unloadedRight);
+  in.scheduledStance = {true, true, true, true};
+  run(1, unloadedRight);
+  EXPECT_FALSE(out.stance[2] || out.stance[3]);
+}
+
 /// Max |base velocity| while the left leg's encoders report a 0.5 rad/s hip swing for 20 ticks,
 /// its foot still loaded (a slipping foot, as the legs see it).
 double velocityDuringLeftFootSlip(double gate) {
