@@ -41,6 +41,7 @@ struct Options {
   std::string profile = std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat.yaml";
   std::vector<double> speeds{0.0, 0.5, 1.0};
   int directions = 8;
+  std::vector<double> angles;  ///< --angles: these directions (deg) instead of --directions
   int phases = 8;
   double step = 10.0, max = 150.0, guess = 60.0;
   double duration = 1.0, after = 4.0;
@@ -55,6 +56,7 @@ struct Options {
   if (why) std::fprintf(stderr, "ballast-push-map: %s\n", why);
   std::fprintf(stderr,
                "usage: ballast-push-map [--profile FILE] [--speeds 0,0.5,1.0] [--directions 8]\n"
+               "         [--angles DEG,DEG...]\n"
                "         [--phases 8] [--step 10] [--max 150] [--guess 60] [--duration 1]\n"
                "         [--after 4] [--body torso] [-j JOBS] [--out DIR]\n"
                "       ballast-push-map --trace [--profile FILE] --speed V --direction DEG\n"
@@ -81,6 +83,7 @@ Options parse(int argc, char** argv) {
     if (a == "--profile") o.profile = value();
     else if (a == "--speeds") o.speeds = numberList(value());
     else if (a == "--directions") o.directions = std::atoi(value().c_str());
+    else if (a == "--angles") o.angles = numberList(value());
     else if (a == "--phases") o.phases = std::atoi(value().c_str());
     else if (a == "--step") o.step = std::atof(value().c_str());
     else if (a == "--max") o.max = std::atof(value().c_str());
@@ -99,6 +102,8 @@ Options parse(int argc, char** argv) {
     else usage(("unknown argument " + a).c_str());
   }
   if (o.directions < 1 || o.phases < 1 || o.step <= 0.0 || o.max < o.step) usage("bad grid");
+  if (o.angles.empty())
+    for (int d = 0; d < o.directions; ++d) o.angles.push_back(360.0 * d / o.directions);
   if (o.jobs <= 0) o.jobs = std::max(1L, sysconf(_SC_NPROCESSORS_ONLN));
   return o;
 }
@@ -168,11 +173,11 @@ int main(int argc, char** argv) {
   const int guess = std::clamp(static_cast<int>(std::lround(o.guess / o.step)), 1, n);
   std::vector<Cell> cells;
   for (double v : o.speeds)
-    for (int d = 0; d < o.directions; ++d)
+    for (double deg : o.angles)
       for (int p = 0; p < (v == 0.0 ? 1 : o.phases); ++p) {
         Cell c;
         c.speed = v;
-        c.direction = 360.0 * d / o.directions;
+        c.direction = deg;
         c.phase = v == 0.0 ? 0.0 : static_cast<double>(p) / o.phases;
         c.hi = n + 1;
         cells.push_back(c);
@@ -276,8 +281,7 @@ int main(int argc, char** argv) {
       table << b;
     }
     table << "    min\n";
-    for (int d = 0; d < o.directions; ++d) {
-      const double deg = 360.0 * d / o.directions;
+    for (double deg : o.angles) {
       char b[64];
       std::snprintf(b, sizeof b, "  %-9s", directionName(deg).c_str());
       table << b;
@@ -324,12 +328,13 @@ int main(int argc, char** argv) {
       const std::string label = v == 0.0 ? "standing" : "walking " + std::to_string(v).substr(0, 3) + " m/s";
       std::fprintf(f, "set title '%s'\n", label.c_str());
       std::fprintf(f, "$min%d << EOD\n", static_cast<int>(std::lround(v * 100)));
-      for (int d = 0; d <= o.directions; ++d) {
-        const double deg = 360.0 * (d % o.directions) / o.directions;
+      const int na = static_cast<int>(o.angles.size());
+      for (int d = 0; d <= na; ++d) {
+        const double deg = o.angles[d % na];
         double lowest = 1e9;
         for (const Cell& c : cells)
           if (c.speed == v && c.direction == deg) lowest = std::min(lowest, c.lo * o.step);
-        std::fprintf(f, "%g %g\n", 360.0 * d / o.directions, lowest);
+        std::fprintf(f, "%g %g\n", deg, lowest);
       }
       std::fprintf(f, "EOD\n");
       std::fprintf(f,
