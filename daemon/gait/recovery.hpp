@@ -39,7 +39,10 @@ namespace ballast::gait {
 /// Filled by the profile (gait.recovery_*: defaults and bounds in daemon/profile/schema.cpp).
 struct RecoveryParameters {
   bool enabled = true;
-  double margin = 0.02;      ///< m beyond the support polygon that starts steps (and inside it, ends them)
+  // 0: the point leaving the polygon at all starts steps. At 0.02 m a push on a diagonal (or
+  // 70 N along an axis) tipped the standing robot over a foot's corner or edge, the other foot
+  // unloaded, before the point was that far out, and the first step fell.
+  double margin = 0.0;       ///< m beyond the support polygon that starts steps (and inside it, ends them)
   double settleSpeed = 0.1;  ///< m/s: the centre of mass slower than this ends the steps
   double minPeriod = 0.6;    ///< s: the shortest gait cycle of the recovery steps
 };
