@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <condition_variable>
 #include <mutex>
 #include <thread>
@@ -86,8 +87,13 @@ TEST_F(RealTime, ASlowSimulationStepMakesTheWorldWaitNotTheControllerLate) {
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   backend::Sensors s;
   ASSERT_EQ(sim.read(s), Status::kOk);
-  EXPECT_LT(late, 12);  // without the pause every tick would be late
-  EXPECT_LT(skipped, 12);
+  // Without the pause every tick would be late. Some are, on a host that preempts the loop at
+  // this 0.1 ms period: Simbody 17 of 250 once in CI; here 1-5 (Simbody), 1-22 (MuJoCo) in 5
+  // runs each. Half is far from either.
+  std::printf("late %d, skipped %d of 250 ticks; simulated %.4f s in %.4f s\n", late, skipped,
+              s.time, wall);
+  EXPECT_LT(late, 250 / 2);
+  EXPECT_LT(skipped, 250 / 2);
   EXPECT_NEAR(s.time, (250 + skipped) * config.period, 1e-9);
   EXPECT_GT(wall, 1.2 * s.time);  // the world fell behind the wall clock
 }
