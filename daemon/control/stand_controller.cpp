@@ -35,12 +35,8 @@ StandController::StandController(const model::Model& model, const ControlSetting
       q_(model::VecX<double>::Zero(model.nq)),
       v_(model::VecX<double>::Zero(model.nv)),
       Jc_(model::MatX<double>::Zero(3 * kNumContacts, model.nv)) {
-  for (int c = 0; c < kNumContacts; ++c) {
+  for (int c = 0; c < kNumContacts; ++c)
     contact_frame_[c] = model.frameId(settings.contact_frames[c]);
-    // Feet: the contact points on the first one's body, and the others.
-    foot_of_contact_[c] =
-        model.frames[contact_frame_[c]].body == model.frames[contact_frame_[0]].body ? 0 : 1;
-  }
   pose_ = {posture_.nominalHeight(), 0.0, 0.0, 0.0};
   posture_.solve(pose_[0], 0, 0, 0, 20, target_.data());
 }
@@ -53,7 +49,7 @@ void StandController::setSettings(const ControlSettings& settings) {
 
 bool StandController::feetDown(const EstimatedState& state) const {
   bool down[2] = {false, false};
-  for (int c = 0; c < kNumContacts; ++c) down[foot_of_contact_[c]] |= state.contact[c];
+  for (int c = 0; c < kNumContacts; ++c) down[posture_.footOfContact(c)] |= state.contact[c];
   return down[0] && down[1];
 }
 

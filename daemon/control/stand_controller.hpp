@@ -19,8 +19,8 @@
 // Reference posture: anchored, stand-up moves the base from its pose over the feet at the start
 // to the standing pose (position and roll, pitch, yaw each blended), the legs solved for it every
 // tick; the other joints, and all of them unanchored, blend from the posture at its start to the
-// standing posture, with a quintic smoothstep (zero velocity and acceleration at both ends), with the full
-// feed-forward from the start (fading it in lets the knees sag and the robot tip over
+// standing posture, with a quintic smoothstep (zero velocity and acceleration at both ends), with
+// the full feed-forward from the start (fading it in lets the knees sag and the robot tip over
 // backwards: measured on the Simbody backend); stand tracks StandPosture for the commanded pose,
 // the pose itself moved toward the command at control.pose_speed / pose_angular_speed. Gains come
 // from the loop (which blends them across a profile switch).
@@ -68,7 +68,6 @@ class StandController {
   model::VecX<double> q_, v_;
   model::MatX<double> Jc_;  // contact-point Jacobians, 3 rows per point
   std::array<int, kNumContacts> contact_frame_{};
-  std::array<int, kNumContacts> foot_of_contact_{};  // 0: the first contact's body, 1: the other
   std::array<double, kMaxJoints> stand_up_from_{};
   std::array<double, kMaxJoints> target_{};
   std::array<double, kMaxJoints> tau_{};

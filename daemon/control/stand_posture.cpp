@@ -22,15 +22,19 @@ StandPosture::StandPosture(const model::Model& model, const ControlSettings& set
   // Feet: the bodies carrying the contact frames, in order of first appearance.
   int numFeet = 0;
   int footBody[2] = {-1, -1};
-  for (const std::string& name : settings.contact_frames) {
-    const int f = model.frameId(name);
+  for (int c = 0; c < kNumContacts; ++c) {
+    const int f = model.frameId(settings.contact_frames[c]);
     const int body = model.frames[f].body;
-    if (body == footBody[0] || body == footBody[1]) continue;
+    if (body == footBody[0] || body == footBody[1]) {
+      foot_of_contact_[c] = body == footBody[0] ? 0 : 1;
+      continue;
+    }
     if (numFeet == 2)
       throw model::ModelError(model.sourceFile +
                               ": the contact frames lie on more than two bodies; a standing "
                               "posture needs exactly two feet");
     footBody[numFeet] = body;
+    foot_of_contact_[c] = numFeet;
     legs_[numFeet].frame = f;
     ++numFeet;
   }
@@ -126,7 +130,8 @@ void StandPosture::placeAnchor() {
   }
   const double yaw = std::atan2(s, c) - std::atan2(sn, cn);
   // levelFromStance: level, turned by yaw, the nominal feet's mean onto the feet's.
-  SE3<double> levelFromStance{model::rotationFromZyx(Vec3<double>(yaw, 0, 0)), Vec3<double>::Zero()};
+  SE3<double> levelFromStance{model::rotationFromZyx(Vec3<double>(yaw, 0, 0)),
+                              Vec3<double>::Zero()};
   levelFromStance.p = mean - levelFromStance.R * meanNominal;
   level_from_stance_ = levelFromStance;
   const SE3<double> stanceFromLevel = levelFromStance.inverse();

@@ -66,6 +66,9 @@ class StandPosture {
   void warmStart(const double* qj);
   /// Whether joint j (model order) is in a leg.
   bool inLeg(int j) const { return in_leg_[j]; }
+  /// The foot (0 or 1, the order the contact frames first name their bodies) that contact
+  /// point c (settings.contact_frames order) is on.
+  int footOfContact(int c) const { return foot_of_contact_[c]; }
 
  private:
   struct Leg {
@@ -82,14 +85,15 @@ class StandPosture {
 
   const model::Model& model_;
   model::Data<double> data_;
-  model::VecX<double> qj_;     // the last solution, the next solve's warm start
+  model::VecX<double> qj_;      // the last solution, the next solve's warm start
   model::VecX<double> q_feet_;  // the joints an anchor was taken at
   model::Mat6X<double> J_;
   std::array<Leg, 2> legs_;
   double nominal_height_ = 0.0;
   bool anchored_ = false;
   model::SE3<double> level_from_stance_;  // anchored: the stance frame in the level frame
-  std::vector<char> in_leg_;  // per joint (model order)
+  std::vector<char> in_leg_;              // per joint (model order)
+  std::array<int, kNumContacts> foot_of_contact_{};
 };
 
 }  // namespace ballast::control

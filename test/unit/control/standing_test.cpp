@@ -25,6 +25,9 @@ ControlSettings simFlat() {
   return profile::buildSettings(p, test::humanoid());
 }
 
+/// The contact points, in the profile's order.
+const char* const kContactFrames[] = {"left_toe", "left_heel", "right_toe", "right_heel"};
+
 /// World placement of a frame for the base at (height, roll, pitch, yaw) and joints qj.
 SE3<double> frameAt(const Model& m, Data<double>& d, const std::string& frame, double h,
                     double roll, double pitch, double yaw, const double* qj) {
@@ -43,9 +46,9 @@ TEST(StandPosture, FeetStayWhereTheNominalStancePutsThem) {
   Data<double> d(m);
   const double h0 = posture.nominalHeight();
   EXPECT_NEAR(h0, 0.890, 0.001);  // 0.19 m of fixed offsets + 2 x 0.38 m x cos(0.4)
-  const char* feet[] = {"left_toe", "left_heel", "right_toe", "right_heel"};
   std::vector<SE3<double>> stance;
-  for (const char* f : feet) stance.push_back(frameAt(m, d, f, h0, 0, 0, 0, s.nominal_q.data()));
+  for (const char* f : kContactFrames)
+    stance.push_back(frameAt(m, d, f, h0, 0, 0, 0, s.nominal_q.data()));
   for (const SE3<double>& f : stance) EXPECT_NEAR(f.p.z(), 0.0, 1e-12);  // soles on the ground
 
   const double poses[][4] = {{0.80, 0, 0, 0}, {0.85, 0.1, -0.05, 0.2}, {0.88, -0.08, 0.1, -0.3}};
@@ -54,9 +57,9 @@ TEST(StandPosture, FeetStayWhereTheNominalStancePutsThem) {
     const double err = posture.solve(p[0], p[1], p[2], p[3], 30, qj);
     EXPECT_LT(err, 1e-9);
     for (int k = 0; k < 4; ++k) {
-      const SE3<double> f = frameAt(m, d, feet[k], p[0], p[1], p[2], p[3], qj);
-      EXPECT_LT((f.p - stance[k].p).norm(), 1e-8) << feet[k];
-      EXPECT_LT((f.R - stance[k].R).norm(), 1e-8) << feet[k];
+      const SE3<double> f = frameAt(m, d, kContactFrames[k], p[0], p[1], p[2], p[3], qj);
+      EXPECT_LT((f.p - stance[k].p).norm(), 1e-8) << kContactFrames[k];
+      EXPECT_LT((f.R - stance[k].R).norm(), 1e-8) << kContactFrames[k];
     }
     for (int j = 0; j < m.nj(); ++j) {
       EXPECT_GE(qj[j], m.lowerPositionLimit[j]);
@@ -86,7 +89,6 @@ Mat3<double> unevenFeet(const Model& m, const ControlSettings& s, double* qj) {
 void expectLevelBaseOnTheFeet(const Model& m, const ControlSettings& s, double height,
                               const std::vector<SE3<double>>& feet, const double* qj) {
   Data<double> d(m);
-  const char* names[] = {"left_toe", "left_heel", "right_toe", "right_heel"};
   const double yaw = std::atan2(std::sin(std::atan2(feet[0].R(1, 0), feet[0].R(0, 0))) +
                                     std::sin(std::atan2(feet[2].R(1, 0), feet[2].R(0, 0))),
                                 std::cos(std::atan2(feet[0].R(1, 0), feet[0].R(0, 0))) +
@@ -94,12 +96,12 @@ void expectLevelBaseOnTheFeet(const Model& m, const ControlSettings& s, double h
   std::vector<SE3<double>> level;  // base at the origin, level, at the feet's heading
   Vec3<double> shift = Vec3<double>::Zero();
   for (int k = 0; k < 4; ++k) {
-    level.push_back(frameAt(m, d, names[k], 0.0, 0.0, 0.0, yaw, qj));
+    level.push_back(frameAt(m, d, kContactFrames[k], 0.0, 0.0, 0.0, yaw, qj));
     shift += 0.25 * (feet[k].p - level[k].p);
   }
   for (int k = 0; k < 4; ++k) {
-    EXPECT_LT((level[k].p + shift - feet[k].p).norm(), 1e-6) << names[k];
-    EXPECT_LT((level[k].R - feet[k].R).norm(), 1e-6) << names[k];
+    EXPECT_LT((level[k].p + shift - feet[k].p).norm(), 1e-6) << kContactFrames[k];
+    EXPECT_LT((level[k].R - feet[k].R).norm(), 1e-6) << kContactFrames[k];
   }
   // `shift` is the base's place under the feet: height above the soles' mean (the first frame
   // of each foot), and the nominal stance's horizontal offset from the feet, turned by yaw.
@@ -107,8 +109,7 @@ void expectLevelBaseOnTheFeet(const Model& m, const ControlSettings& s, double h
   EXPECT_NEAR(shift.z() - soles.z(), height, 1e-6);
   const SE3<double> l0 = frameAt(m, d, "left_toe", 0, 0, 0, 0, s.nominal_q.data());
   const SE3<double> r0 = frameAt(m, d, "right_toe", 0, 0, 0, 0, s.nominal_q.data());
-  const Vec3<double> offset =
-      rotationFromZyx(Vec3<double>(yaw, 0, 0)) * (0.5 * (l0.p + r0.p));
+  const Vec3<double> offset = rotationFromZyx(Vec3<double>(yaw, 0, 0)) * (0.5 * (l0.p + r0.p));
   EXPECT_NEAR(soles.x() - shift.x(), offset.x(), 1e-6);
   EXPECT_NEAR(soles.y() - shift.y(), offset.y(), 1e-6);
 }
@@ -121,9 +122,9 @@ TEST(StandPosture, AnchoredALevelBaseStandsOnTheFeetWhereTheyAre) {
   double q0[kMaxJoints];
   const Mat3<double> R0 = unevenFeet(m, s, q0);
   const Vec3<double> zyx0 = zyxFromRotation(R0);
-  const char* names[] = {"left_toe", "left_heel", "right_toe", "right_heel"};
   std::vector<SE3<double>> feet;
-  for (const char* f : names) feet.push_back(frameAt(m, d, f, 1.0, zyx0[2], zyx0[1], zyx0[0], q0));
+  for (const char* f : kContactFrames)
+    feet.push_back(frameAt(m, d, f, 1.0, zyx0[2], zyx0[1], zyx0[0], q0));
   // The feet are uneven: tilted soles at different heights.
   ASSERT_GT(std::abs(feet[0].p.z() - feet[2].p.z()), 0.02);
   ASSERT_GT(std::acos(std::clamp(feet[0].R(2, 2), -1.0, 1.0)), 0.08);
@@ -162,9 +163,8 @@ TEST(StandController, StandsUpToALevelBaseOverUnevenFeet) {
   for (int i = 0; i < 4; ++i) in.state.base.orientation[i] = quat[i];
   for (bool& c : in.state.contact) c = true;
   const Vec3<double> zyx0 = zyxFromRotation(R0);
-  const char* names[] = {"left_toe", "left_heel", "right_toe", "right_heel"};
   std::vector<SE3<double>> feet;
-  for (const char* f : names)
+  for (const char* f : kContactFrames)
     feet.push_back(frameAt(m, d, f, 1.0, zyx0[2], zyx0[1], zyx0[0], in.state.q));
   in.command.height = controller.nominalHeight();
 
@@ -186,7 +186,7 @@ TEST(StandController, StandsUpToALevelBaseOverUnevenFeet) {
     in.stand_up_progress = double(i) / ticks;
     lifted.compute(in, kp.data(), kd.data(), 1e-3, *out);
   }
-  for (const char* f : names) {
+  for (const char* f : kContactFrames) {
     const SE3<double> p = frameAt(m, d, f, 1.0, 0, 0, 0, out->q_ref);
     EXPECT_NEAR(p.R(2, 2), 1.0, 1e-9) << f;
   }
