@@ -15,10 +15,8 @@ ballast walk --vx "$VX" --for 22s >/dev/null || fail "walk"
 sim_time_passes 20
 ballast record stop >/dev/null || fail "record stop"
 healthy
-awk -F '\t' -v deg="$(calc "atan2(0, -1) / 180")" '
+awk -F '\t' -v deg="$(calc "atan2(0, -1) / 180")" "$RECORDING"'
   function abs(a) { return a < 0 ? -a : a }
-  /^# t\t/ { for (i = 2; i <= NF; ++i) col[$i] = i; col["t"] = 1; next }
-  /^#/ { next }
   $(col["mode"]) != 3 { next }   # walk
   {
     ex = $(col["x"]) - $(col["true_x"]); ey = $(col["y"]) - $(col["true_y"])

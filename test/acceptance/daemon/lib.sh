@@ -122,12 +122,16 @@ for_seconds() {
   until time_after "$t_end" 0; do never_damped; advance_by 0.1; done
 }
 
+# RECORDING: the start of an awk program (awk -F '\t' "$RECORDING"'...') over a telemetry
+# recording (`ballast record` TSV): col["name"] is each field's column, the comment lines skipped.
+RECORDING='/^# t\t/ { for (i = 2; i <= NF; ++i) col[$i] = i; col["t"] = 1; next }
+/^#/ { next }
+'
+
 # motion_report TSV: the ground-truth base over a recorded telemetry file, for the README's
 # backend table: mean base height, its RMS about that mean, and the RMS tilt (roll and pitch).
 motion_report() {
-  awk -F '\t' '
-    /^# t\t/ { for (i = 2; i <= NF; ++i) col[$i] = i; next }
-    /^#/ { next }
+  awk -F '\t' "$RECORDING"'
     { z = $(col["true_z"]); r = $(col["true_roll"]); p = $(col["true_pitch"]);
       n++; sz += z; szz += z * z; st += r * r + p * p }
     END {

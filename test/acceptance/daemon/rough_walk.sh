@@ -27,10 +27,8 @@ ballast record stop >/dev/null || fail "record stop"
 x1=$(field truth.base.position.0)
 [ "$(field mode)" = walk ] || fail "stopped walking before the command's end"
 motion_report "$WORK/walk.tsv"
-awk -F '\t' -v x0="$x0" -v x1="$x1" -v vx="$VX" -v s="$SECONDS_WALKED" '
+awk -F '\t' -v x0="$x0" -v x1="$x1" -v vx="$VX" -v s="$SECONDS_WALKED" "$RECORDING"'
   function abs(a) { return a < 0 ? -a : a }
-  /^# t\t/ { for (i = 2; i <= NF; ++i) col[$i] = i; next }
-  /^#/ { next }
   {
     r = abs($(col["true_roll"])); p = abs($(col["true_pitch"])); z = $(col["true_z"])
     if (n == 0 || r > rmax) rmax = r

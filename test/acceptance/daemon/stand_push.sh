@@ -19,9 +19,7 @@ healthy
 # From the recording (every tick, started just before the push request, so its first frame is
 # the push's start within a status poll): whether the robot left stand (mode 5, recover), how
 # many toe touch-downs, and the last frame not in stand.
-set -- $(awk -F '\t' '
-  /^# t\t/ { for (i = 2; i <= NF; ++i) col[$i] = i; col["t"] = 1; next }
-  /^#/ { next }
+set -- $(awk -F '\t' "$RECORDING"'
   n++ == 0 { t0 = $1; for (c = 0; c < 4; ++c) was[c] = $(col["contact_" c]) }
   {
     if ($(col["mode"]) == 5) recover = 1

@@ -43,9 +43,7 @@ fi
 # swing in antiphase (their correlation over the window is negative). (Sideways or turning on
 # the spot, people hardly swing their arms; neither need the robot.)
 [ "$VX" != 0 ] && [ "$WZ" = 0 ] || { stop_daemon; echo "ok: walked"; exit 0; }
-awk -F '\t' '
-  /^# t\t/ { for (i = 2; i <= NF; ++i) col[$i] = i; next }
-  /^#/ { next }
+awk -F '\t' "$RECORDING"'
   { l = $(col["q_left_shoulder_pitch"]); r = $(col["q_right_shoulder_pitch"]);
     n++; sl += l; sr += r; sll += l * l; srr += r * r; slr += l * r;
     if (n == 1 || l < lmin) lmin = l; if (n == 1 || l > lmax) lmax = l;

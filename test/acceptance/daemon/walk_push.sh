@@ -20,9 +20,7 @@ healthy
 [ "$(field mode)" = walk ] || fail "not walking after the push"
 motion_report "$WORK/push.tsv"
 # Mean forward and lateral velocity from 3 to 4 s after the recording's start (the push's).
-set -- $(awk -F '\t' '
-  /^# t\t/ { for (i = 2; i <= NF; ++i) col[$i] = i; next }
-  /^#/ { next }
+set -- $(awk -F '\t' "$RECORDING"'
   n++ == 0 { t0 = $1 }
   $1 >= t0 + 3 && $1 <= t0 + 4 { m++; f += $(col["true_v_fwd"]); l += $(col["true_v_lat"]) }
   END { if (m > 0) printf "%.3f %.3f\n", f / m, l / m }' "$WORK/push.tsv")

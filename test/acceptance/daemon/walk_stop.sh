@@ -22,9 +22,7 @@ ballast record stop >/dev/null || fail "record stop"
 # The times from the recording (every tick), not from status polls, whose own latency is
 # simulated time in lockstep: the stop is the first frame whose command is zero, at rest the
 # first after it standing with a ground-truth speed under 0.05 m/s and four contacts.
-set -- $(awk -F '\t' '
-  /^# t\t/ { for (i = 2; i <= NF; ++i) col[$i] = i; col["t"] = 1; next }
-  /^#/ { next }
+set -- $(awk -F '\t' "$RECORDING"'
   !stopped && $(col["cmd_vx"]) == 0 { stopped = 1; t0 = $1 }
   stopped && $(col["mode"]) == 2 && $(col["true_vx"]) ^ 2 + $(col["true_vy"]) ^ 2 < 0.05 ^ 2 &&
     $(col["contact_0"]) && $(col["contact_1"]) && $(col["contact_2"]) && $(col["contact_3"]) {
