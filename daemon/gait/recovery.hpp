@@ -45,6 +45,10 @@ struct RecoveryParameters {
   double margin = 0.0;       ///< m beyond the support polygon that starts steps (and inside it, ends them)
   double settleSpeed = 0.1;  ///< m/s: the centre of mass slower than this ends the steps
   double minPeriod = 0.6;    ///< s: the shortest gait cycle of the recovery steps
+  /// Walking on the paper's footholds, an estimated push (horizontal, past the estimator's
+  /// deadband) stronger than this hands the footholds to the capture point's, the push in the
+  /// MPC's dynamics, until it has stayed under half this for a gait cycle. 0: never.
+  double walkingPushForce = 40.0;  ///< N
 };
 
 /// Where the robot's centre of pressure must be to hold its capture point still, and how far that

@@ -157,8 +157,10 @@ void LocomotionPlanner::updateRecovery(double t, bool operatorWalks, const gait:
                                        double yaw) {
   if (operatorWalks) {  // the operator's walk takes over the steps
     recovering_ = recoveryActive_ = false;
+    updatePushSteps(t, state);
     return;
   }
+  pushStepping_ = false;
   const gait::SupportCheck support =
       gait::supportCheck(state.contactPositions, state.com.head<2>(), state.comVelocity.head<2>(),
                          state.externalForce.head<2>(), state.mass, swings_.omega());
@@ -184,6 +186,25 @@ void LocomotionPlanner::updateRecovery(double t, bool operatorWalks, const gait:
                                             settings_.recovery)) {
     recovering_ = false;
   }
+}
+
+void LocomotionPlanner::updatePushSteps(double t, const gait::GaitState& state) {
+  // The paper's footholds answer a velocity error with k (v - v_des), a quarter of what a step
+  // must do to catch the body, and see no push: 60 N for 1 s felled the walking robot at every
+  // phase. The capture point's steps catch it, but they walk worse undisturbed (README, Pushes),
+  // so they take over only while a push lasts. Handing back waits for a double support: a swing
+  // the capture point re-aimed on its way has no cubic of the paper's from its lift-off.
+  const double limit = settings_.recovery.walkingPushForce;
+  const double push = state.externalForce.head<2>().norm();
+  if (limit <= 0.0) {
+    pushStepping_ = false;
+    return;
+  }
+  if (push > limit) pushStepping_ = true;
+  if (push > 0.5 * limit) lastPushTime_ = t;
+  const bool doubleSupport = gait::numStance(schedule_.flagsAt(t)) == kNumContacts;
+  if (pushStepping_ && doubleSupport && t > lastPushTime_ + schedule_.gaitAt(t).period)
+    pushStepping_ = false;
 }
 
 bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
@@ -242,7 +263,8 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
   // Recovery steps take the capture point's footholds whatever the profile's rule is: they are
   // what the steps are for.
   gait::SwingPlannerParameters swing = settings_.swing;
-  if (recoveryActive_ && !operatorCommand.walk) swing.rule = gait::FootholdRule::kCapturePoint;
+  if ((recoveryActive_ && !operatorCommand.walk) || pushStepping_)
+    swing.rule = gait::FootholdRule::kCapturePoint;
   swings_.setParameters(swing);
   const double horizon = settings_.sqp.nodes * settings_.sqp.dt;
   swings_.update(schedule_, gaitState, planarCommand(command), horizon, terrain_);

@@ -156,6 +156,8 @@ class LocomotionPlanner {
   LocomotionCommand slewed(double t, const LocomotionCommand& operatorCommand);
   /// Standing recovery steps: begins or ends them from the state (gait/recovery.hpp).
   void updateRecovery(double t, bool operatorWalks, const gait::GaitState& state, double yaw);
+  /// Walking: whether a push hands the footholds to the capture point (pushStepping_).
+  void updatePushSteps(double t, const gait::GaitState& state);
   /// The base reference at t (see the header comment); advances the commanded pose.
   gait::PlanarPose referenceStart(double t, const Eigen::VectorXd& x,
                                   const LocomotionCommand& command, double feetYaw);
@@ -186,6 +188,10 @@ class LocomotionPlanner {
   /// recoveryActive_ until the schedule stands again after them.
   bool recovering_ = false;
   bool recoveryActive_ = false;
+  /// Walking: a push hands the footholds to the capture point (RecoveryParameters::
+  /// walkingPushForce) while pushStepping_; the push was last over half that force then.
+  bool pushStepping_ = false;
+  double lastPushTime_ = 0.0;
   gait::Gait recoveryGait_;
   Eigen::Vector3d externalForce_ = Eigen::Vector3d::Zero();
 };

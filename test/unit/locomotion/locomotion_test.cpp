@@ -269,3 +269,47 @@ TEST_F(Locomotion, SamplerInterpolatesInputsWithinAContactMode) {
 
 }  // namespace
 }  // namespace ballast::locomotion
+
+namespace ballast::locomotion {
+namespace {
+
+TEST_F(Locomotion, APushWalkingHandsTheFootholdsToTheCapturePointUntilItHasPassed) {
+  // gait.footholds paper: an estimated push over gait.recovery_walking_force switches the
+  // footholds to the capture point's; once it has been under half that force for a gait cycle
+  // they go back, at a double support. A push under it changes nothing.
+  ASSERT_EQ(settings.swing.rule, gait::FootholdRule::kPaper);
+  const double limit = settings.recovery.walkingPushForce;
+  ASSERT_GT(limit, 0.0);
+  LocomotionPlanner planner(m, settings, ground);
+  Eigen::VectorXd q = test::standingConfiguration(m), v = Eigen::VectorXd::Zero(m.nv);
+  Plan plan;
+  double t = 0;
+  LocomotionCommand cmd;
+  cmd.walk = true;
+  cmd.vx = 0.5;
+  const auto rule = [&] { return plan.swings.parameters().rule; };
+  run(planner, cmd, 1.5, q, v, plan, t);
+  EXPECT_EQ(rule(), gait::FootholdRule::kPaper);
+  planner.setExternalForce(Eigen::Vector3d(0.0, 0.9 * limit, 0.0));
+  run(planner, cmd, 0.3, q, v, plan, t);
+  EXPECT_EQ(rule(), gait::FootholdRule::kPaper) << "a push under the limit";
+  planner.setExternalForce(Eigen::Vector3d(1.1 * limit, 0.0, 0.0));
+  run(planner, cmd, 0.02, q, v, plan, t);
+  EXPECT_EQ(rule(), gait::FootholdRule::kCapturePoint) << "the push";
+  planner.setExternalForce(Eigen::Vector3d(0.4 * limit, 0.0, 0.0));
+  const double pushEnd = t;
+  const double period = settings.walkGait.period;
+  double handedBack = -1.0;
+  for (; t < pushEnd + 3.0 * period && handedBack < 0.0 && !HasFailure();) {
+    run(planner, cmd, 0.01, q, v, plan, t);
+    if (rule() == gait::FootholdRule::kPaper) handedBack = t - 0.01;  // the update's time
+  }
+  ASSERT_GT(handedBack, 0.0) << "still on the capture point's footholds";
+  EXPECT_GE(handedBack, pushEnd + period);
+  EXPECT_LE(handedBack, pushEnd + 1.5 * period + 0.011);
+  EXPECT_EQ(gait::numStance(plan.schedule.flagsAt(handedBack)), kNumContacts)
+      << "handed back in a swing";
+}
+
+}  // namespace
+}  // namespace ballast::locomotion
