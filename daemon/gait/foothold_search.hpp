@@ -8,12 +8,16 @@
 // ground default) and the heights differ by no more than `edgeTolerance` or a slope of
 // `maxSlope` across the patch, nor along its lines through the point (no step edge, no steep
 // cell under the point); the sole between them crosses no edge; and toe and heel stand on one
-// level or one such slope. The paper's foothold (d = 0) is kept when it is good; otherwise the
-// good d nearest to it on a grid of `step` within `radius`; none good: the paper's foothold, as
-// before. The search is by the foot's centre (the midpoint of toe and heel), so the swings of
-// its two points, planned one after the other, find the same offset.
+// level or one such slope. A good placement is also supported when the flat sole rests on its
+// toe and heel there: no edge under it props it up (supported()). The paper's foothold (d = 0)
+// is kept when it is good and supported; otherwise the good and supported d nearest to it on a
+// grid of `step` within `radius`; none such: the paper's foothold if it is good, else the
+// nearest good d; none good: the paper's foothold, as before. The search is by the foot's
+// centre (the midpoint of toe and heel), so the swings of its two points, planned one after the
+// other, find the same offset.
 //
-// Cost: (2·radius/step + 1)² placements of up to 48 height samples each; 361 × 48 for the
+// Cost: (2·radius/step + 1)² placements of up to 48 height samples each (goodPlacement) and,
+// for the good ones, up to 17 × 7 more (supported, 20 cm feet); 361 placements for the
 // humanoid's 20 cm feet (the window grows to 18 cm for them, see searchRadius), where a
 // placement is searched at all, once per foot and touch-down on the planner thread.
 // Allocates nothing.
@@ -40,6 +44,10 @@ struct FootholdSearchParameters {
   double patch = 0.06;
   double edgeTolerance = 0.02;  ///< m, largest height difference under a foot
   double maxSlope = 0.35;       ///< dz per metre (≈ 19°)
+  /// m, how far the ground under a sole may stand above the line from heel to toe, and, within
+  /// `patch` of either point, below it, for the sole to rest on its toe and heel (supported()).
+  /// A quarter of a 2 cm map's cell: a 2 cm edge anywhere under the sole is more.
+  double supportTolerance = 0.005;
 };
 
 /// Height samples under a sole, heel to toe (a longer sole is sampled more sparsely).
@@ -102,6 +110,41 @@ inline bool goodPlacement(const Eigen::Vector3d& toe, const Eigen::Vector3d& hee
   return std::abs(level[0] - level[1]) <= s.edgeTolerance + s.maxSlope * length;
 }
 
+/// Whether a flat sole set down at (toe, heel) + d rests on its toe and heel: nothing under it
+/// (from `patch` behind the heel to `patch` ahead of the toe, `patch` to either side of the line
+/// between them, sampled every `step`) stands more than supportTolerance above the line from
+/// the heel's height to the toe's, and within `patch` of either point nothing lies more than
+/// that below it. goodPlacement() takes an edge up to edgeTolerance under a sole for a slope
+/// (a 2 cm-cell map holds a ramp as 2 cm stairs); on ground of level patches such an edge is a
+/// corner the sole rests on instead of its heel or toe: on sim-rough (2 cm edges), a foot planned
+/// with its heel on a 2 cm patch and its toe on the next one down pivoted on the edge between
+/// them, its heel unloaded and the robot pitched over it (Simbody, 29.6 s into a 30 s walk at
+/// 0.5 m/s). A gap under the sole's middle (a lower patch between toe and heel) is no harm.
+inline bool supported(const Eigen::Vector3d& toe, const Eigen::Vector3d& heel, double dx,
+                      double dy, const TerrainQuery& terrain, const FootholdSearchParameters& s) {
+  const double length = std::hypot(toe.x() - heel.x(), toe.y() - heel.y());
+  if (length < 1e-9) return true;
+  const double ux = (toe.x() - heel.x()) / length, uy = (toe.y() - heel.y()) / length;
+  const double hx = heel.x() + dx, hy = heel.y() + dy;
+  const double heelZ = terrain.height(hx, hy);
+  const double rise = (terrain.height(toe.x() + dx, toe.y() + dy) - heelZ) / length;
+  const int along = static_cast<int>(std::ceil((length + 2.0 * s.patch) / s.step));
+  const int across = std::max(1, static_cast<int>(std::ceil(s.patch / s.step)));
+  for (int i = 0; i <= along; ++i) {
+    const double a = -s.patch + (length + 2.0 * s.patch) * i / along;  // from the heel, along
+    const double line = heelZ + rise * a;
+    const bool nearPoint = a <= s.patch || a >= length - s.patch;
+    for (int j = -across; j <= across; ++j) {
+      const double b = s.patch * j / across;  // to the left of the line
+      const double x = hx + a * ux - b * uy, y = hy + a * uy + b * ux;
+      const double h = terrain.height(x, y);
+      if (h > line + s.supportTolerance || (nearPoint && h < line - s.supportTolerance))
+        return false;
+    }
+  }
+  return true;
+}
+
 /// Half width of the window searched for a foot from toe to heel: `radius`, or, where that is
 /// more, what moving the foot off an edge under its middle takes (half its length and the patch
 /// ahead of its toe, and one step more for an edge between the grid's placements). With 12 cm
@@ -118,20 +161,30 @@ inline double searchRadius(const Eigen::Vector3d& toe, const Eigen::Vector3d& he
 inline Eigen::Vector3d footholdOffset(const Eigen::Vector3d& toe, const Eigen::Vector3d& heel,
                                       const TerrainQuery& terrain,
                                       const FootholdSearchParameters& s) {
-  if (!s.enabled || goodPlacement(toe, heel, 0.0, 0.0, terrain, s)) return Eigen::Vector3d::Zero();
+  if (!s.enabled) return Eigen::Vector3d::Zero();
+  const bool good = goodPlacement(toe, heel, 0.0, 0.0, terrain, s);
+  if (good && supported(toe, heel, 0.0, 0.0, terrain, s)) return Eigen::Vector3d::Zero();
   const double radius = searchRadius(toe, heel, s);
   const int n = static_cast<int>(std::floor(radius / s.step + 1e-9));
-  double best = INFINITY;
-  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+  // The nearest good placement that is also supported; else, the paper's foothold if it is
+  // good, else the nearest good one (on a ramp's stairs a sole never rests on its two ends).
+  double best = INFINITY, bestGood = INFINITY;
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero(), offsetGood = Eigen::Vector3d::Zero();
   for (int i = -n; i <= n; ++i)
     for (int j = -n; j <= n; ++j) {
       const double dx = i * s.step, dy = j * s.step, d2 = dx * dx + dy * dy;
       if (d2 >= best || d2 > radius * radius + 1e-12) continue;
       if (!goodPlacement(toe, heel, dx, dy, terrain, s)) continue;
+      if (d2 < bestGood) {
+        bestGood = d2;
+        offsetGood = Eigen::Vector3d(dx, dy, 0.0);
+      }
+      if (!supported(toe, heel, dx, dy, terrain, s)) continue;
       best = d2;
       offset = Eigen::Vector3d(dx, dy, 0.0);
     }
-  return offset;
+  if (best < INFINITY) return offset;
+  return good ? Eigen::Vector3d::Zero() : offsetGood;
 }
 
 }  // namespace ballast::gait

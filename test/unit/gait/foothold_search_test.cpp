@@ -142,8 +142,44 @@ TEST(FootholdSearch, APointOnAnInterpolatedEdgeIsNotGood) {
   EXPECT_FALSE(goodPlacement(at(1.2), at(1.0), 0, 0, InterpolatedStep{}, s));
   EXPECT_FALSE(goodPlacement(at(1.0), at(0.8), 0, 0, InterpolatedStep{}, s));  // a toe on it
   const Eigen::Vector3d d = footholdOffset(at(1.2), at(1.0), InterpolatedStep{}, s);
-  EXPECT_NEAR(d.x(), 0.06, 1e-9);  // forward: the heel's patch off the rise
+  // Forward: the heel's patch off the rise. 6 cm is good (the patch's back end at 1.00 reads
+  // 0.02, within edgeTolerance) but the sole would not rest on its heel there (2 cm below the
+  // sole's line, supported()); 8 cm clears the rise.
+  EXPECT_NEAR(d.x(), 0.08, 1e-9);
   EXPECT_TRUE(goodPlacement(at(1.2), at(1.0), d.x(), d.y(), InterpolatedStep{}, s));
+  EXPECT_TRUE(goodPlacement(at(1.2), at(1.0), 0.06, 0, InterpolatedStep{}, s));
+}
+
+/// Level patches as sim-rough's 2 cm-cell map holds them: 2 cm up to x = 1 m, the floor after.
+class PatchEdge final : public TerrainQuery {
+ public:
+  double height(double x, double) const override { return x < 1.0 ? 0.02 : 0.0; }
+};
+
+TEST(FootholdSearch, ASoleAcrossAPatchEdgeMovesToWhereItRestsOnToeAndHeel) {
+  const FootholdSearchParameters s;
+  // Heel at 0.93 on the 2 cm patch, toe at 1.13 on the floor: within edgeTolerance and
+  // maxSlope, good, but the sole's line from 0.02 at the heel to 0 at the toe runs 0.007 below
+  // the patch's corner at x = 1 (0.02 − 0.1 × 0.07) and 0.006 above the floor 6 cm behind the
+  // toe: the sole would pivot on the corner (Simbody's 30 s walk on sim-rough fell so).
+  const Eigen::Vector3d toe = at(1.13), heel = at(0.93);
+  ASSERT_TRUE(goodPlacement(toe, heel, 0, 0, PatchEdge{}, s));
+  EXPECT_FALSE(supported(toe, heel, 0, 0, PatchEdge{}, s));
+  // The nearest supported placement: forward until the heel's patch (6 cm behind it) clears the
+  // edge, heel 0.93 + d − 0.06 >= 1.0, d = 0.14 on the 2 cm grid; back would take the toe's
+  // patch before the edge, 1.13 + d + 0.06 < 1.0, d <= −0.20, beyond the 18 cm window.
+  const Eigen::Vector3d d = footholdOffset(toe, heel, PatchEdge{}, s);
+  EXPECT_NEAR(d.x(), 0.14, 1e-9);
+  EXPECT_NEAR(d.y(), 0.0, 1e-9);
+  EXPECT_TRUE(supported(toe, heel, d.x(), d.y(), PatchEdge{}, s));
+  // Both points on one patch: supported where they are; the floor beyond a heel's patch lower
+  // than the sole's line is no harm.
+  EXPECT_TRUE(supported(at(0.9), at(0.7), 0, 0, PatchEdge{}, s));
+  EXPECT_TRUE(supported(at(1.3), at(1.1), 0, 0, PatchEdge{}, s));
+  EXPECT_FALSE(supported(at(1.3), at(1.05), 0, 0, PatchEdge{}, s));  // heel's patch on the edge
+  EXPECT_EQ(footholdOffset(at(1.3), at(1.1), PatchEdge{}, s), Eigen::Vector3d::Zero());
+  // A ramp's stairs: never supported; the paper's foothold stays where it is good.
+  EXPECT_EQ(footholdOffset(at(1.4), at(1.2), QuantisedRamp{}, s), Eigen::Vector3d::Zero());
 }
 
 TEST(FootholdSearch, AllocatesNothing) {
