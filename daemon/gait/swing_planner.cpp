@@ -94,8 +94,28 @@ Eigen::Vector3d SwingPlanner::footOffset(int contact, double touchDown, const Pl
     return raibertFoothold(base, nominalOffsets_[c], state.comVelocity, vDesired, yawRate, stance,
                            params_.foothold, terrain);
   };
-  const Eigen::Vector3d offset = footholdOffset(paper(toe), paper(heel), terrain, params_.search);
-  if (footOffsetCount_[foot] < kMaxSwings) known[footOffsetCount_[foot]++] = {touchDown, offset};
+  const Eigen::Vector3d paperToe = paper(toe), paperHeel = paper(heel);
+  Eigen::Vector3d offset = Eigen::Vector3d::Zero();
+  bool kept = false;
+  // Where the last update put this touch-down's foot, while it is still good, supported and in
+  // the window: the paper's foothold moves a little every update, and the nearest good place
+  // to it can jump from one side of a patch to another (sim-rough seed 2 on Simbody: a swinging
+  // foot's target went 13 cm to the left and back within 0.06 s, and the robot fell).
+  for (int i = 0; i < previousOffsetCount_[foot] && !kept; ++i) {
+    const FootOffset& last = previousOffsets_[foot][i];
+    if (std::abs(last.touchDown - touchDown) >= 1e-6 || last.offset.isZero()) continue;
+    Eigen::Vector3d d = last.toe - paperToe;
+    d.z() = 0.0;
+    if (d.norm() <= searchRadius(paperToe, paperHeel, params_.search) &&
+        goodPlacement(paperToe, paperHeel, d.x(), d.y(), terrain, params_.search) &&
+        supported(paperToe, paperHeel, d.x(), d.y(), terrain, params_.search)) {
+      offset = d;
+      kept = true;
+    }
+  }
+  if (!kept) offset = footholdOffset(paperToe, paperHeel, terrain, params_.search);
+  if (footOffsetCount_[foot] < kMaxSwings)
+    known[footOffsetCount_[foot]++] = {touchDown, offset, paperToe + offset};
   return offset;
 }
 
@@ -109,6 +129,8 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
   const bool capture = params_.rule == FootholdRule::kCapturePoint;
   stepsLimited_ = false;
   if (capture) planSteps(schedule, state, command, until);
+  previousOffsets_ = footOffsets_;
+  previousOffsetCount_ = footOffsetCount_;
   footOffsetCount_.fill(0);
   for (int c = 0; c < kNumContacts; ++c) {
     std::array<SwingTrajectory, kMaxSwings> previous = swings_[c];

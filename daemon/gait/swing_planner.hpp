@@ -17,7 +17,9 @@
 // frame: the paper's foot-collision constraint (eq. collsion), enforced where footholds are
 // chosen.
 // Under the paper's rule, where the ground under its foothold is not good (unknown, an edge,
-// steep), the foot moves to the nearest good place within a small window (foothold_search.hpp).
+// steep) or the sole would not rest on its toe and heel, the foot moves to the nearest good
+// place within a small window (foothold_search.hpp), and stays at that place over the updates
+// while it is good and within the window of the paper's foothold.
 #pragma once
 
 #include <array>
@@ -114,9 +116,14 @@ class SwingPlanner {
   struct FootOffset {
     double touchDown;
     Eigen::Vector3d offset;
+    Eigen::Vector3d toe;  ///< where the offset put the toe (world)
   };
   std::array<std::array<FootOffset, kMaxSwings>, 2> footOffsets_{};
   std::array<int, 2> footOffsetCount_{};
+  /// The last update's: a moved foothold stays where it was while that is still good and
+  /// supported (footOffset).
+  std::array<std::array<FootOffset, kMaxSwings>, 2> previousOffsets_{};
+  std::array<int, 2> previousOffsetCount_{};
 };
 
 }  // namespace ballast::gait
