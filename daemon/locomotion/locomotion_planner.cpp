@@ -245,6 +245,7 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
 
   // Gait: walking or standing, changed only where the schedule allows. Walking on keeps the foot
   // order in force (a recovery may have begun with the right foot), so the feet alternate.
+  const double horizon = settings_.sqp.nodes * settings_.sqp.dt;  // the MPC's, s
   gait::Gait next;  // the gait asked of the schedule
   if (recovering_) {
     next = recoveryGait_;
@@ -269,7 +270,6 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
       const double longest = next.period;
       const double shortest = std::min(settings_.recovery.minPeriod, longest);
       constexpr double kPeriodStep = 0.05;  // s between the periods tried
-      const double horizon = settings_.sqp.nodes * settings_.sqp.dt;
       for (double p = longest;; p -= kPeriodStep) {
         next.period = std::max(p, shortest);
         if (next.period <= shortest + 1e-9) break;
@@ -289,7 +289,6 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
   if ((recoveryActive_ && !operatorCommand.walk) || pushStepping_)
     swing.rule = gait::FootholdRule::kCapturePoint;
   swings_.setParameters(swing);
-  const double horizon = settings_.sqp.nodes * settings_.sqp.dt;
   swings_.update(schedule_, gaitState, planarCommand(command), horizon, terrain_);
 
   fillReferences(t, start, command);
