@@ -16,23 +16,33 @@
 //             (as long as asked; a late wake-up from them is the host's) pass in the world as
 //             on a robot: the motors hold their command through them;
 //   stop()    turns the motors off.
-// A backend derives from SimulationBackend<Derived, World>, fills caps_, period_, lockstep_ and
-// lidarEnabled_ in configure() (with configureCommands()), calls restartTicks() in start(), and
-// provides sampleSensors() (fills sample_) and scanLidar(). World provides numJoints(),
-// setMotorCommands(const JointCommand*), stepTo(seconds) and time(). Nothing here allocates
-// after configure().
+//   configure(), start(), push() and lidarScan() are the same for every simulator too.
+// A backend derives from SimulationBackend<Derived, World> and provides:
+//   makeWorld(config)  parses its own section of the profile into settings_ (the keys every
+//                      simulator shares: settings_schema.hpp) and builds world_; throws with a
+//                      message naming the key on bad input;
+//   settings()         those settings;  configuredMessage()  what configure() reports on success;
+//   sampleSensors()    fills sample_;   scanLidar()          advances lidar_ on the world.
+// World provides numJoints(), jointNames(), reset(), setMotorCommands(const JointCommand*),
+// stepTo(seconds), time() and push(link, const double force[3], duration, message). Nothing
+// here allocates after configure().
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <memory>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "backend_abi.hpp"
 #include "host_delays.hpp"
+#include "rolling_lidar.hpp"
+#include "sensor_model.hpp"
 #include "tick_pacer.hpp"
 
 namespace ballast::plugin {
@@ -42,6 +52,107 @@ class SimulationBackend : public backend::Backend {
  public:
   const backend::Capabilities& capabilities() const override { return caps_; }
   const backend::Error& lastError() const override { return lastError_; }
+
+  bool configure(const backend::Config& config, backend::Error& error) override {
+    started_ = faulted_ = false;
+    world_.reset();
+    Derived& self = static_cast<Derived&>(*this);
+    try {
+      if (!(config.period > 0.0 && config.period <= 0.1))
+        throw std::runtime_error("Config::period " + std::to_string(config.period) +
+                                 " s: the control period must be in (0, 0.1] s");
+      self.makeWorld(config);
+      const auto& settings = self.settings();
+      period_ = config.period;
+      lockstep_ = config.lockstep;
+      caps_ = backend::Capabilities{};
+      std::snprintf(caps_.name, sizeof caps_.name, "%s", simulator_);
+      caps_.simulation = true;
+      caps_.lockstep = true;
+      caps_.ground_truth = true;
+      caps_.lidar = lidarEnabled_ = settings.lidar_enabled;
+      caps_.disturbance = true;
+      caps_.position_fix = settings.position_fix_rate > 0.0;
+      caps_.num_joints = world_->numJoints();
+      for (int j = 0; j < caps_.num_joints; ++j)
+        std::snprintf(caps_.joint_names[j], backend::kNameLength, "%s",
+                      world_->jointNames()[static_cast<std::size_t>(j)].c_str());
+      sensors_.configure(sensorNoise(settings), period_, config.seed);
+      if (lidarEnabled_) lidar_.configure(lidarSettings(settings), config.seed);
+      host_.configure(settings.host_stall_at, settings.host_stall, settings.host_jitter_from,
+                      settings.host_jitter_fraction, settings.host_jitter, config.seed);
+      configureCommands(settings.motor_latency_ticks);
+      copyMessage(error, self.configuredMessage().c_str());
+    } catch (const std::exception& e) {
+      world_.reset();
+      copyMessage(error, e.what());
+      return false;
+    } catch (...) {  // nothing may cross the plugin boundary
+      world_.reset();
+      std::snprintf(message_, sizeof message_, "%s: configure failed with an unknown exception",
+                    simulator_);
+      copyMessage(error, message_);
+      return false;
+    }
+    return true;
+  }
+
+  bool start(backend::Error& error) override {
+    if (!world_) {
+      std::snprintf(message_, sizeof message_, "%s: start() before a successful configure()",
+                    simulator_);
+      copyMessage(error, message_);
+      return false;
+    }
+    try {
+      world_->reset();
+    } catch (const std::exception& e) {
+      copyMessage(error, e.what());
+      return false;
+    } catch (...) {
+      std::snprintf(message_, sizeof message_, "%s: start failed with an unknown exception",
+                    simulator_);
+      copyMessage(error, message_);
+      return false;
+    }
+    restartTicks();
+    sensors_.start();
+    if (lidarEnabled_) lidar_.start(0.0);
+    static_cast<Derived&>(*this).sampleSensors();
+    started_ = true;
+    faulted_ = false;
+    copyMessage(lastError_, "");
+    copyMessage(error, "");
+    return true;
+  }
+
+  bool push(const backend::Push& push, backend::Error& error) override {
+    if (!started_ || faulted_) {
+      std::snprintf(message_, sizeof message_, "%s: push() needs a started, healthy simulation",
+                    simulator_);
+      copyMessage(error, message_);
+      return false;
+    }
+    try {
+      const std::string body(push.body, strnlen(push.body, sizeof push.body));
+      std::string message;
+      if (!world_->push(body, push.force, push.duration, message)) {
+        copyMessage(error, (std::string(simulator_) + ": " + message).c_str());
+        return false;
+      }
+    } catch (...) {
+      std::snprintf(message_, sizeof message_, "%s: push failed with an unknown exception",
+                    simulator_);
+      copyMessage(error, message_);
+      return false;
+    }
+    copyMessage(error, "");
+    return true;
+  }
+
+  bool lidarScan(backend::PointCloudView& scan) override {
+    return started_ && lidarEnabled_ && lidar_.take(scan);
+  }
 
   backend::Status read(backend::Sensors& sensors) override {
     if (!started_) return notStarted("read");
@@ -194,6 +305,8 @@ class SimulationBackend : public backend::Backend {
   bool started_ = false, faulted_ = false;
   std::uint64_t tick_ = 0;  ///< advances since start()
   backend::Sensors sample_;
+  SensorModel sensors_;
+  RollingLidar lidar_;
   HostDelays host_;
 
  private:

@@ -55,4 +55,17 @@ TerrainColumns loadTerrainColumns(const std::string& path, double floorHeight,
 std::string resolveTerrainMap(const std::string& map, const std::string& origin,
                               const std::string& where);
 
+/// The terrain map a simulator loads: its section's terrain_map (resolveTerrainMap) when the
+/// section gives one, else the profile's (profileMap, already resolved; null or "": none).
+/// where: the section key's location for the map's messages ("" when it is the profile's).
+template <typename Settings>
+std::string terrainMapToLoad(const Settings& s, const char* profileMap, std::string& where) {
+  if (s.terrain_map.empty()) {
+    where.clear();
+    return profileMap ? profileMap : "";
+  }
+  where = s.where("terrain_map");
+  return resolveTerrainMap(s.terrain_map, s.origin, where);
+}
+
 }  // namespace ballast::plugin

@@ -42,11 +42,10 @@
 #include <cstdint>
 #include <ctime>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "backend_abi.hpp"
-#include "rolling_lidar.hpp"  // plugins/common
-#include "sensor_model.hpp"   // plugins/common
 #include "simulation_backend.hpp"  // plugins/common
 #include "mujoco_settings.hpp"
 #include "mujoco_world.hpp"
@@ -56,22 +55,17 @@ namespace ballast::mujoco {
 class MujocoBackend final : public plugin::SimulationBackend<MujocoBackend, MujocoWorld> {
  public:
   MujocoBackend() : SimulationBackend("mujoco") {}
-  bool configure(const backend::Config& config, backend::Error& error) override;
-  bool start(backend::Error& error) override;
-  bool push(const backend::Push& push, backend::Error& error) override;
-  bool lidarScan(backend::PointCloudView& scan) override;
-
   // Not part of the ABI: for tests and benchmarks that link the backend directly.
   const MujocoSettings& settings() const { return settings_; }
 
  private:
   friend class plugin::SimulationBackend<MujocoBackend, MujocoWorld>;  // its per-tick hooks
+  void makeWorld(const backend::Config& config);
+  std::string configuredMessage() const;
   void sampleSensors();
   void scanLidar();
 
   MujocoSettings settings_;
-  plugin::SensorModel sensors_;
-  plugin::RollingLidar lidar_;
 };
 
 }  // namespace ballast::mujoco

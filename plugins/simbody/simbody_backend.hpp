@@ -59,11 +59,10 @@
 #include <cstdint>
 #include <ctime>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "backend_abi.hpp"
-#include "rolling_lidar.hpp"  // plugins/common
-#include "sensor_model.hpp"   // plugins/common
 #include "simulation_backend.hpp"  // plugins/common
 #include "sim_settings.hpp"
 #include "simbody_world.hpp"
@@ -73,22 +72,17 @@ namespace ballast::simbody {
 class SimbodyBackend final : public plugin::SimulationBackend<SimbodyBackend, SimbodyWorld> {
  public:
   SimbodyBackend() : SimulationBackend("simbody") {}
-  bool configure(const backend::Config& config, backend::Error& error) override;
-  bool start(backend::Error& error) override;
-  bool push(const backend::Push& push, backend::Error& error) override;
-  bool lidarScan(backend::PointCloudView& scan) override;
-
   // Not part of the ABI: for tests and benchmarks that link the backend directly.
   const SimSettings& settings() const { return settings_; }
 
  private:
   friend class plugin::SimulationBackend<SimbodyBackend, SimbodyWorld>;  // its per-tick hooks
+  void makeWorld(const backend::Config& config);
+  std::string configuredMessage() const;
   void sampleSensors();
   void scanLidar();
 
   SimSettings settings_;
-  plugin::SensorModel sensors_;
-  plugin::RollingLidar lidar_;
 };
 
 }  // namespace ballast::simbody

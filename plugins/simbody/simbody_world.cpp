@@ -268,8 +268,9 @@ void SimbodyWorld::setMotorCommands(const backend::JointCommand* commands) {
   invalidate();
 }
 
-bool SimbodyWorld::push(const std::string& linkName, const SimTK::Vec3& force, double duration,
-                        std::string& error) {
+bool SimbodyWorld::push(const std::string& linkName, const double forceInWorld[3],
+                        double duration, std::string& error) {
+  const SimTK::Vec3 force(forceInWorld[0], forceInWorld[1], forceInWorld[2]);
   if (!(duration > 0.0) || !std::isfinite(duration) || !force.isFinite()) {
     error = "push: the force must be finite and the duration positive";
     return false;

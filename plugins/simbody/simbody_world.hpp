@@ -98,8 +98,7 @@ class SimbodyWorld {
   void setMotorCommands(const backend::JointCommand* commands);
   /// A force (world, N) at the origin of link `link` ("" = base) for `duration` s. Returns
   /// false with a message if the link is unknown or all push slots are busy.
-  bool push(const std::string& link, const SimTK::Vec3& force, double duration,
-            std::string& error);
+  bool push(const std::string& link, const double force[3], double duration, std::string& error);
 
   /// Integrates to time t (> time()). Throws std::runtime_error if the integrator fails or the
   /// state diverges (NaN, absurd speeds).
