@@ -6,17 +6,28 @@
 # Passes when the robot is never damped and, over the walk (ground truth, recorded), the base
 # covered at least 80 % of VX x SECONDS forward, its roll and pitch stayed within 0.25 rad and
 # its height above z = 0 within 0.8 to 1.0 m (nominal 0.89 m over patches 0 to 4 cm high).
+# Environment: ROUGH_SEED (1) the patches' seed; ROUGH_MAPPING=off keeps the lidar's scans out
+# of the map (the planner has the file's map only; default: the file's map seeded into the live
+# map, the scans inserted into it), ROUGH_MAPPING=lidar sends `ballast map clear` standing (the
+# planner has what the lidar maps from then on, at mapping.resolution or ROUGH_RESOLUTION);
+# ROUGH_SAVE=FILE saves the map the planner had at the end (and FILE-truth.bt, FILE.tsv).
 # Usage: rough_walk.sh BALLASTD BALLAST PROFILE BALLAST_MKMAP VX SECONDS
 . "$(dirname "$0")/lib.sh"
-MKMAP=$4 VX=$5 SECONDS_WALKED=$6
+MKMAP=$4 VX=$5 SECONDS_WALKED=$6 SEED=${ROUGH_SEED:-1}
 
-"$MKMAP" rough -o "$WORK/rough.bt" --extent -2 16 -2 2 --amplitude 0.04 --patch 0.2 --seed 1 \
+"$MKMAP" rough -o "$WORK/rough.bt" --extent -2 16 -2 2 --amplitude 0.04 --patch 0.2 --seed "$SEED" \
   >/dev/null || fail "ballast-mkmap"
 DAEMON_PROFILE=$WORK/rough.yaml
 printf 'extends: %s\nterrain:\n  map: %s\n' "$PROFILE" "$WORK/rough.bt" >"$DAEMON_PROFILE"
+if [ "${ROUGH_MAPPING:-on}" = off ] || [ -n "${ROUGH_RESOLUTION:-}" ]; then
+  echo 'mapping:'
+  [ "${ROUGH_MAPPING:-on}" != off ] || echo '  enabled: false'
+  [ -z "${ROUGH_RESOLUTION:-}" ] || echo "  resolution: $ROUGH_RESOLUTION"
+fi >>"$DAEMON_PROFILE"
 
 start_daemon
 wait_until "stand" 30 mode_is stand
+[ "${ROUGH_MAPPING:-on}" != lidar ] || ballast map clear >/dev/null || fail "map clear"
 for_seconds 1
 ballast record start "$WORK/walk.tsv" >/dev/null || fail "record start"
 x0=$(field truth.base.position.0)
@@ -25,6 +36,9 @@ wait_until "the loop to take the walk command" 10 mode_is walk
 for_seconds "$SECONDS_WALKED"
 ballast record stop >/dev/null || fail "record stop"
 x1=$(field truth.base.position.0)
+[ -z "${ROUGH_SAVE:-}" ] || ballast map save "$ROUGH_SAVE" >/dev/null || fail "map save"
+[ -z "${ROUGH_SAVE:-}" ] || cp "$WORK/rough.bt" "${ROUGH_SAVE%.bt}-truth.bt"
+[ -z "${ROUGH_SAVE:-}" ] || cp "$WORK/walk.tsv" "${ROUGH_SAVE%.bt}.tsv"
 [ "$(field mode)" = walk ] || fail "stopped walking before the command's end"
 motion_report "$WORK/walk.tsv"
 awk -F '\t' -v x0="$x0" -v x1="$x1" -v vx="$VX" -v s="$SECONDS_WALKED" "$RECORDING"'
