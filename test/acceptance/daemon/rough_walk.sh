@@ -10,7 +10,8 @@
 # of the map (the planner has the file's map only; default: the file's map seeded into the live
 # map, the scans inserted into it), ROUGH_MAPPING=lidar sends `ballast map clear` standing (the
 # planner has what the lidar maps from then on, at mapping.resolution or ROUGH_RESOLUTION);
-# ROUGH_SAVE=FILE saves the map the planner had at the end (and FILE-truth.bt, FILE.tsv).
+# ROUGH_SAVE=FILE saves the map the planner had at the end (and FILE-truth.bt, FILE.tsv);
+# ROUGH_DISTANCE (0.8) the share of VX x SECONDS the base must cover.
 # Usage: rough_walk.sh BALLASTD BALLAST PROFILE BALLAST_MKMAP VX SECONDS
 . "$(dirname "$0")/lib.sh"
 MKMAP=$4 VX=$5 SECONDS_WALKED=$6 SEED=${ROUGH_SEED:-1}
@@ -41,7 +42,7 @@ x1=$(field truth.base.position.0)
 [ -z "${ROUGH_SAVE:-}" ] || cp "$WORK/walk.tsv" "${ROUGH_SAVE%.bt}.tsv"
 [ "$(field mode)" = walk ] || fail "stopped walking before the command's end"
 motion_report "$WORK/walk.tsv"
-awk -F '\t' -v x0="$x0" -v x1="$x1" -v vx="$VX" -v s="$SECONDS_WALKED" "$RECORDING"'
+awk -F '\t' -v x0="$x0" -v x1="$x1" -v vx="$VX" -v s="$SECONDS_WALKED" -v share="${ROUGH_DISTANCE:-0.8}" "$RECORDING"'
   function abs(a) { return a < 0 ? -a : a }
   {
     r = abs($(col["true_roll"])); p = abs($(col["true_pitch"])); z = $(col["true_z"])
@@ -53,7 +54,7 @@ awk -F '\t' -v x0="$x0" -v x1="$x1" -v vx="$VX" -v s="$SECONDS_WALKED" "$RECORDI
   }
   END {
     printf "walked %.2f m in %s s (command %s m/s): roll max %.3f rad, pitch max %.3f rad, height %.3f to %.3f m over %d samples\n", x1 - x0, s, vx, rmax, pmax, zmin, zmax, n
-    exit !(n > 0 && x1 - x0 >= 0.8 * vx * s && rmax <= 0.25 && pmax <= 0.25 && zmin >= 0.8 && zmax <= 1.0)
+    exit !(n > 0 && x1 - x0 >= share * vx * s && rmax <= 0.25 && pmax <= 0.25 && zmin >= 0.8 && zmax <= 1.0)
   }' "$WORK/walk.tsv" || fail "off the bars (distance, roll, pitch or height)"
 stop_daemon
 echo "ok: walked on rough ground"
