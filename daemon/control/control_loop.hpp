@@ -109,6 +109,12 @@ class ControlLoop {
   const std::vector<std::string>& jointNames() const { return joint_names_; }
   double nominalHeight() const { return stand_.nominalHeight(); }
 
+  // ---- control thread, between ticks (lockstep tests and tools) ----
+  /// The last sample read from the backend (ground truth included when the backend has it).
+  const backend::Sensors& sensors() const { return sensors_; }
+  /// The state estimator's seat: its filter's output of the last tick.
+  const LoopEstimator& estimator() const { return estimator_; }
+
   // ---- control thread ----
   /// Ticks until stop is set, then damps for shutdown_ticks and stops the backend. An exception
   /// in a tick is a fault: the motors are damped and the loop goes on.

@@ -29,6 +29,8 @@ class DaemonStack {
   bool waitForMode(control::Mode mode, double seconds);
 
   control::LoopStatus status() const { return loop_->status(); }
+  /// The loop itself, between ticks: its last sensor sample and estimator output.
+  const control::ControlLoop& loop() const { return *loop_; }
   double t() const { return loop_->status().t; }
   const model::Model& model() const { return daemon_->model(); }
   const control::ControlSettings& settings() const { return daemon_->settings().control; }

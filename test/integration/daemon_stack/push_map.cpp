@@ -49,6 +49,7 @@ struct Options {
   int jobs = 0;
   std::string out = "push-map";
   bool trace = false;
+  bool unpushed = false;  ///< no pushes: the estimated push walking undisturbed, per speed
   double speed = 0.5, direction = 0.0, phase = 0.0, force = 60.0;
 };
 
@@ -59,6 +60,7 @@ struct Options {
                "         [--angles DEG,DEG...]\n"
                "         [--phases 8] [--step 10] [--max 150] [--guess 60] [--duration 1]\n"
                "         [--after 4] [--body torso] [-j JOBS] [--out DIR]\n"
+               "       ballast-push-map --unpushed [--profile FILE] [--speeds 0.5,1.0,1.2,1.5]\n"
                "       ballast-push-map --trace [--profile FILE] --speed V --direction DEG\n"
                "         --phase FRACTION --force N [--duration 1] [--after 4] [--body LINK]\n");
   std::exit(2);
@@ -94,6 +96,7 @@ Options parse(int argc, char** argv) {
     else if (a == "-j" || a == "--jobs") o.jobs = std::atoi(value().c_str());
     else if (a == "--out") o.out = value();
     else if (a == "--trace") o.trace = true;
+    else if (a == "--unpushed") o.unpushed = true;
     else if (a == "--speed") o.speed = std::atof(value().c_str());
     else if (a == "--direction") o.direction = std::atof(value().c_str());
     else if (a == "--phase") o.phase = std::atof(value().c_str());
@@ -168,6 +171,18 @@ int trace(const Options& o) {
 int main(int argc, char** argv) {
   const Options o = parse(argc, argv);
   if (o.trace) return trace(o);
+  if (o.unpushed) {
+    // The largest horizontal push the estimator reads walking with none (3 s to reach the
+    // speed, 5 s watched): what gait.recovery_walking_force must stay above.
+    std::printf("speed m/s   raw N   past the deadband N\n");
+    for (double v : o.speeds) {
+      if (v == 0.0) continue;
+      const ballast::test::UnpushedPeak p = ballast::test::unpushedPeak(o.profile, v, 3.0, 5.0);
+      std::printf("%8.2f  %6.1f  %6.1f%s\n", v, p.raw, p.reported, p.walked ? "" : "  (fell)");
+      std::fflush(stdout);
+    }
+    return 0;
+  }
 
   const int n = static_cast<int>(std::floor(o.max / o.step + 1e-9));
   const int guess = std::clamp(static_cast<int>(std::lround(o.guess / o.step)), 1, n);

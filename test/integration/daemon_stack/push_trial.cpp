@@ -147,4 +147,23 @@ PushOutcome runPushTrial(const PushTrial& trial) {
   return out;
 }
 
+UnpushedPeak unpushedPeak(const std::string& profile, double speed, double settle, double seconds) {
+  DaemonStack robot(profile);
+  if (!robot.waitForMode(control::Mode::kStand, 5.0))
+    throw std::runtime_error("the robot did not stand up");
+  UnpushedPeak out;
+  if (!robot.run(0.5) || robot.walk(speed) != control::Refusal::kNone) return out;
+  if (!robot.run(settle)) return out;
+  const double end = robot.t() + seconds;
+  while (robot.t() < end - 1e-9) {
+    if (!robot.run(0.001)) return out;
+    const estimation::EstimatorOutput& e = robot.loop().estimator().filterOutput();
+    out.raw = std::max(out.raw, e.externalForceRaw.head<2>().norm());
+    out.reported = std::max(out.reported, e.externalForce.head<2>().norm());
+  }
+  out.walked = true;
+  return out;
+}
+
 }  // namespace ballast::test
+

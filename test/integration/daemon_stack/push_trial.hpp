@@ -39,4 +39,13 @@ struct PushOutcome {
 /// Throws std::runtime_error when the robot cannot be set up (stand-up, walk refused).
 PushOutcome runPushTrial(const PushTrial& trial);
 
+/// Walking with no push: the largest horizontal external force the state estimator reads.
+struct UnpushedPeak {
+  bool walked = false;  ///< no fall, no damp
+  double raw = 0.0;     ///< N, horizontal, before the deadband (EstimatorOutput::externalForceRaw)
+  double reported = 0.0;  ///< N, past the deadband (what the planner's push switch compares)
+};
+/// Stand up, walk at `speed` (m/s forward), ignore the first `settle` s, watch `seconds` more.
+UnpushedPeak unpushedPeak(const std::string& profile, double speed, double settle, double seconds);
+
 }  // namespace ballast::test
