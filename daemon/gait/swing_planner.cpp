@@ -25,6 +25,14 @@ Eigen::Vector3d SwingPlanner::keepFeetApart(int contact, const Eigen::Vector3d& 
   return foothold + side * shortfall * Eigen::Vector3d(-sy, cy, 0.0);
 }
 
+Eigen::Vector2d SwingPlanner::placeOnFoot(int contact, double yaw) const {
+  const Eigen::Vector3d centre = 0.5 * (nominalOffsets_[isLeft(contact) ? kLeftToe : kRightToe] +
+                                        nominalOffsets_[isLeft(contact) ? kLeftHeel : kRightHeel]);
+  const Eigen::Vector3d local = nominalOffsets_[contact] - centre;
+  const double cy = std::cos(yaw), sy = std::sin(yaw);
+  return Eigen::Vector2d(cy * local.x() - sy * local.y(), sy * local.x() + cy * local.y());
+}
+
 double SwingPlanner::omega() const {
   return pendulumFrequency(params_.comHeight, params_.foothold.gravity);
 }
@@ -167,15 +175,10 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
               (!step || std::abs(steps_[k].touchDown - s.touchDown) <
                             std::abs(step->touchDown - s.touchDown)))
             step = &steps_[k];
-        const Eigen::Vector3d centre =
-            0.5 * (nominalOffsets_[isLeft(c) ? kLeftToe : kRightToe] +
-                   nominalOffsets_[isLeft(c) ? kLeftHeel : kRightHeel]);
-        const Eigen::Vector3d local = nominalOffsets_[c] - centre;
-        const double yaw = state.base.yaw + command.yawRate * (s.touchDown - state.t);
-        const double cy = std::cos(yaw), sy = std::sin(yaw);
         s.foothold = step ? step->foothold : Eigen::Vector2d(s.liftOffPosition.head<2>());
-        Eigen::Vector3d p(s.foothold.x() + cy * local.x() - sy * local.y(),
-                          s.foothold.y() + sy * local.x() + cy * local.y(), 0.0);
+        Eigen::Vector3d p;
+        p << s.foothold + placeOnFoot(c, state.base.yaw + command.yawRate * (s.touchDown - state.t)),
+            0.0;
         p.z() = terrain.height(p.x(), p.y());
         s.touchDownPosition = p;
       } else {
@@ -191,6 +194,12 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
         p = keepFeetApart(c, p, base.yaw, state);
         p.z() = terrain.height(p.x(), p.y());
         s.touchDownPosition = p;
+        // The foot's centre where this point lands: a capture point's step that takes over
+        // while this swing is held steps on from it. Unset (the origin), a push switching the
+        // footholds as a swing landed (walking push switch) planned the next step about the
+        // origin, 1.25 m behind the robot, and the robot lunged and fell.
+        s.foothold =
+            p.head<2>() - placeOnFoot(c, state.base.yaw + command.yawRate * (s.touchDown - state.t));
       }
       // A swing re-aimed on its way moves on from where its reference is now (capture point
       // rule; the paper's swings keep their one cubic from lift-off).

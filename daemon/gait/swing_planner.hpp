@@ -96,6 +96,9 @@ class SwingPlanner {
   Eigen::Vector3d footOffset(int contact, double touchDown, const PlanarPose& base,
                              const GaitState& state, const Eigen::Vector3d& vDesired,
                              double yawRate, double stance, const TerrainQuery& terrain);
+  /// Where contact point `contact` sits from its foot's centre (toe and heel midway), world
+  /// x-y, the foot turned to `yaw`.
+  Eigen::Vector2d placeOnFoot(int contact, double yaw) const;
   Eigen::Vector3d keepFeetApart(int contact, const Eigen::Vector3d& foothold, double yaw,
                                 const GaitState& state) const;
   /// Capture point rule: steps_[0..numSteps_) and their footholds for this update.

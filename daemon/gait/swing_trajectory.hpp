@@ -44,8 +44,8 @@ struct SwingTrajectory {
   double moveFrom = -1.0;
   Eigen::Vector3d movePosition = Eigen::Vector3d::Zero();
   Eigen::Vector3d moveVelocity = Eigen::Vector3d::Zero();
-  /// The foot's reference point (middle of its contact points) at touch-down, world x, y, and
-  /// the foot's heading there: what step adjustment chose for the whole foot.
+  /// The foot's reference point (middle of its contact points) at touch-down, world x, y: what
+  /// step adjustment chose for the whole foot, or where the paper's foothold puts it.
   Eigen::Vector2d foothold = Eigen::Vector2d::Zero();
 
   /// Start and end of the horizontal motion, s.

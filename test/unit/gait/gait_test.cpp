@@ -383,6 +383,38 @@ TEST_F(SwingPlannerTest, ASwingInProgressKeepsItsLiftOffAndHoldsItsTargetLate) {
   EXPECT_LT((planner.swingAt(kLeftToe, s.t)->touchDownPosition - held).norm(), 1e-12);
 }
 
+TEST_F(SwingPlannerTest, AHeldSwingHandedToTheCapturePointIsSteppedOnFromWhereItLands) {
+  // Walking forward on the paper's footholds, 3.6 m from the origin; late in the left foot's
+  // swing (its touch-down held) a push hands the footholds to the capture point (the walking
+  // push switch). The held swing keeps its target and the capture point steps on from it: the
+  // right foot's next step lands within a step of it, as the paper's would. With the paper's
+  // swings not saying where their foot lands, it stepped about the origin (a fall).
+  const ContactSchedule schedule(walk(0.8, 0.2), 0.0);
+  SwingPlanner planner(defaults(), offsets);
+  GaitState s = state();
+  const Eigen::Vector3d away(3.0, 2.0, 0.0);
+  s.base.position += away;
+  s.com = s.base.position;
+  for (Eigen::Vector3d& p : s.contactPositions) p += away;
+  s.baseVelocity = s.comVelocity = Eigen::Vector3d{0.5, 0, 0};
+  s.mass = 50.0;
+  const VelocityCommand cmd{0.5, 0, 0};
+  planner.update(schedule, s, cmd, 1.0, FlatTerrain());
+  s.t = 0.08 + 0.8 * 0.32;
+  planner.update(schedule, s, cmd, 1.0, FlatTerrain());
+  const SwingTrajectory held = *planner.swingAt(kLeftToe, s.t);
+  SwingPlannerParameters capture = defaults();
+  capture.rule = FootholdRule::kCapturePoint;
+  planner.setParameters(capture);
+  planner.update(schedule, s, cmd, 1.0, FlatTerrain());
+  EXPECT_LT((planner.swingAt(kLeftToe, s.t)->touchDownPosition - held.touchDownPosition).norm(),
+            1e-12);
+  const SwingTrajectory* right = planner.swingAt(kRightToe, 0.6);
+  ASSERT_NE(right, nullptr);
+  EXPECT_LT((right->touchDownPosition - held.touchDownPosition).head<2>().norm(),
+            capture.limits.maxForward + capture.limits.maxWidth);
+}
+
 /// Nothing observed anywhere: every placement the foothold search tries fails at its first
 /// known(), so the calls count the placements tried.
 class UnknownTerrain final : public TerrainQuery {
