@@ -194,10 +194,8 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
         p = keepFeetApart(c, p, base.yaw, state);
         p.z() = terrain.height(p.x(), p.y());
         s.touchDownPosition = p;
-        // The foot's centre where this point lands: a capture point's step that takes over
-        // while this swing is held steps on from it. Unset (the origin), a push switching the
-        // footholds as a swing landed (walking push switch) planned the next step about the
-        // origin, 1.25 m behind the robot, and the robot lunged and fell.
+        // The foot's centre where this point lands: when the capture point's rule takes over
+        // (the walking push switch) while this swing is held, its next step starts from here.
         s.foothold =
             p.head<2>() - placeOnFoot(c, state.base.yaw + command.yawRate * (s.touchDown - state.t));
       }
