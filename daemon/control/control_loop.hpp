@@ -110,8 +110,6 @@ class ControlLoop {
   double nominalHeight() const { return stand_.nominalHeight(); }
 
   // ---- control thread, between ticks (lockstep tests and tools) ----
-  /// The last sample read from the backend (ground truth included when the backend has it).
-  const backend::Sensors& sensors() const { return sensors_; }
   /// The state estimator's seat: its filter's output of the last tick.
   const LoopEstimator& estimator() const { return estimator_; }
 

@@ -36,8 +36,6 @@ class LoopEstimator {
   bool correctPosition(const backend::PositionFix& fix);
 
   const estimation::EstimatorOutput& filterOutput() const { return output_; }
-  /// What the filter was given last (joints in the model's order).
-  const estimation::EstimatorInput& filterInput() const { return input_; }
   estimation::EstimatorStatus filterStatus() const { return status_; }
 
  private:

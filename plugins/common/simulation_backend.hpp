@@ -18,7 +18,7 @@
 //   stop()    turns the motors off.
 //   configure(), start(), push() and lidarScan() are the same for every simulator too.
 // A backend derives from SimulationBackend<Derived, World> and provides:
-//   makeWorld(config)  parses its own section of the profile into settings_ (the keys every
+//   makeWorld(config)  (Config::period and urdf_path checked) parses its own section of the profile into settings_ (the keys every
 //                      simulator shares: settings_schema.hpp) and builds world_; throws with a
 //                      message naming the key on bad input;
 //   settings()         those settings;  configuredMessage()  what configure() reports on success;
@@ -61,6 +61,8 @@ class SimulationBackend : public backend::Backend {
       if (!(config.period > 0.0 && config.period <= 0.1))
         throw std::runtime_error("Config::period " + std::to_string(config.period) +
                                  " s: the control period must be in (0, 0.1] s");
+      if (!config.urdf_path || !*config.urdf_path)
+        throw std::runtime_error("Config::urdf_path is empty: the simulation needs the robot's URDF");
       self.makeWorld(config);
       const auto& settings = self.settings();
       period_ = config.period;

@@ -14,8 +14,6 @@ namespace ballast::mujoco {
 void MujocoBackend::makeWorld(const backend::Config& config) {
   settings_ = parseMujocoSettings(config.section_yaml ? config.section_yaml : "",
                                config.section_origin ? config.section_origin : "");
-  if (!config.urdf_path || !*config.urdf_path)
-    throw std::runtime_error("Config::urdf_path is empty: the simulation needs the robot's URDF");
   WorldOptions options;
   options.urdfPath = config.urdf_path;
   const plugin::SimulatedRobot robot = plugin::simulatedRobot(config);

@@ -14,8 +14,6 @@ namespace ballast::simbody {
 void SimbodyBackend::makeWorld(const backend::Config& config) {
   settings_ = parseSimSettings(config.section_yaml ? config.section_yaml : "",
                                config.section_origin ? config.section_origin : "");
-  if (!config.urdf_path || !*config.urdf_path)
-    throw std::runtime_error("Config::urdf_path is empty: the simulation needs the robot's URDF");
   WorldOptions options;
   options.urdfPath = config.urdf_path;
   const plugin::SimulatedRobot robot = plugin::simulatedRobot(config);
