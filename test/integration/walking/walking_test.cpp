@@ -137,7 +137,8 @@ TEST(Walking, StandsStill) {
 }
 
 /// Walks at vx for 10 s: no fall, mean speed over the last 5 s within 10 %, the arms swing
-/// against the legs (the MPC moves them, through the centroidal momentum).
+/// against the legs (the MPC moves them, through the centroidal momentum). At 1.0 m/s here;
+/// 0.5, 1.2 and 1.5 m/s through the CLI (acceptance.walk.forward_*, both simulators).
 void walksForward(double vx, WalkingRig& rig, Recorder& rec) {
   ASSERT_TRUE(rec.run(walk(vx), 5.0)) << rig.why();
   rec.mark();
@@ -155,12 +156,6 @@ void walksForward(double vx, WalkingRig& rig, Recorder& rec) {
   EXPECT_EQ(rig.degradedTicks(), 0);
 }
 
-TEST(Walking, WalksAtHalfAMetrePerSecond) {
-  WalkingRig rig;
-  Recorder rec(rig);
-  walksForward(0.5, rig, rec);
-}
-
 TEST(Walking, WalksAtOneMetrePerSecondAndStops) {
   WalkingRig rig;
   Recorder rec(rig);
@@ -174,12 +169,6 @@ TEST(Walking, WalksAtOneMetrePerSecondAndStops) {
   EXPECT_LT(rig.baseVelocity().norm(), 0.05);
   for (int c = 0; c < 4; ++c) EXPECT_TRUE(rig.inContact(c)) << c;
   EXPECT_FALSE(rig.plan().walking);
-}
-
-TEST(Walking, WalksAtOnePointTwoMetresPerSecond) {
-  WalkingRig rig;
-  Recorder rec(rig);
-  walksForward(1.2, rig, rec);
 }
 
 /// Turning on the spot and walking sideways: no fall, tracked within 15 % over the last 3 s.
