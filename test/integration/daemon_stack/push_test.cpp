@@ -187,7 +187,7 @@ std::vector<StandingCase> standingCases() {
   for (double force : {20.0, 60.0})
     for (int k = 0; k <= 4; ++k)
       cases.push_back({force, 45.0 * k, force >= 60.0 && k % 2 == 0, false});
-  // The walking push profile standing: 60 N (with the 2 cm margin -y fell).
+  // The walking push profile standing: 60 N (with the 2 cm margin -y, +y's mirror, fell).
   for (int k = 0; k <= 4; ++k) cases.push_back({60.0, 45.0 * k, false, true});
   return cases;
 }
