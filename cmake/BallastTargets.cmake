@@ -23,15 +23,16 @@ function(ballast_add_gtest)
   target_compile_definitions(${T_NAME} PRIVATE
     BALLAST_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
     BALLAST_TEST_DATA_DIR="${PROJECT_SOURCE_DIR}/test/data")
+  if(NOT T_COST)
+    set(T_COST 0)  # CTest's own default
+  endif()
   if(T_REAL_TIME)
     # One label: gtest_discover_tests flattens its PROPERTIES, a list of labels would not survive.
     gtest_discover_tests(${T_NAME} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS realtime RUN_SERIAL TRUE
                          COST ${BALLAST_TEST_COST_REAL_TIME})
-  elseif(T_COST)
+  else()
     gtest_discover_tests(${T_NAME} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${T_LABELS}"
                          COST ${T_COST})
-  else()
-    gtest_discover_tests(${T_NAME} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "${T_LABELS}")
   endif()
 endfunction()
 

@@ -18,9 +18,10 @@
 //   stop()    turns the motors off.
 //   configure(), start(), push() and lidarScan() are the same for every simulator too.
 // A backend derives from SimulationBackend<Derived, World> and provides:
-//   makeWorld(config)  (Config::period and urdf_path checked) parses its own section of the profile into settings_ (the keys every
-//                      simulator shares: settings_schema.hpp) and builds world_; throws with a
-//                      message naming the key on bad input;
+//   makeWorld(config)  (Config::period and urdf_path already checked) parses its own section of
+//                      the profile into settings_ (the keys every simulator shares:
+//                      settings_schema.hpp) and builds world_; throws with a message naming the
+//                      key on bad input;
 //   settings()         those settings;  configuredMessage()  what configure() reports on success;
 //   sampleSensors()    fills sample_;   scanLidar()          advances lidar_ on the world.
 // World provides numJoints(), jointNames(), reset(), setMotorCommands(const JointCommand*),

@@ -7,7 +7,8 @@
 # Usage: realtime_walk.sh BALLASTD BALLAST PROFILE VX [SECONDS]
 BALLAST_ACCEPTANCE_REALTIME=1
 . "$(dirname "$0")/lib.sh"
-VX=$4 HALF=$(calc "${5:-20} / 2")
+VX=$4 WALK=${5:-20}
+HALF=$(calc "$WALK / 2")
 
 start_daemon
 wait_until "stand" 30 mode_is stand
@@ -17,7 +18,7 @@ wait_until "the base pitched 3 deg" 10 near base.rpy.1 0.0524 0.01
 ballast pose >/dev/null || fail "pose back to nominal"
 wait_until "the nominal height" 10 near base.position.2 0.89 0.01
 for_seconds 1
-ballast walk --vx "$VX" --for "$(calc "2 * $HALF")s" >/dev/null || fail "walk"
+ballast walk --vx "$VX" --for "${WALK}s" >/dev/null || fail "walk"
 wait_until "the loop to take the walk command" 10 mode_is walk
 for_seconds "$HALF"
 t0=$(field t) x0=$(field truth.base.position.0)
