@@ -109,8 +109,6 @@ const char* const kPalette[] = {"lw 1.2 lc rgb '#1f77b4'", "lw 1.2 lc rgb '#ff7f
 const char* const kBars[] = {"lc rgb '#1f77b4'", "lc rgb '#ff7f0e'", "lc rgb '#2ca02c'",
                              "lc rgb '#d62728'"};
 
-std::string quoted(const std::string& s) { return gnuplotQuoted(s); }
-
 std::string number(double x) {
   std::ostringstream o;
   o.precision(12);
@@ -161,7 +159,8 @@ class Script {
                  const std::vector<Series>& series) {
     start(title, "frames");
     // From under one frame up: one full bin (lockstep's lateness, all 0) is still a range.
-    g_ << "set xlabel " << quoted(xlabel) << "\nset xrange [*:*]\nset logscale y\nset yrange [0.8:*]\n"
+    g_ << "set xlabel " << gnuplotQuoted(xlabel)
+       << "\nset xrange [*:*]\nset logscale y\nset yrange [0.8:*]\n"
        << "set style fill solid 0.4 border\nset boxwidth " << number(w) << " absolute\n";
     const std::string width = number(w);
     plot(
@@ -178,7 +177,7 @@ class Script {
        << flags.size() - 0.5 << "]\nset ytics (";
     std::vector<Series> series;
     for (std::size_t i = 0; i < flags.size(); ++i) {
-      g_ << (i ? ", " : "") << quoted(labels[i]) << " " << i;
+      g_ << (i ? ", " : "") << gnuplotQuoted(labels[i]) << " " << i;
       series.push_back({"", kBars[i % 4], {flags[i]}, "@0 > 0.5 ? " + std::to_string(i) + " : NaN"});
     }
     g_ << ")\n";
@@ -191,7 +190,7 @@ class Script {
 
  private:
   void start(const std::string& title, const std::string& ylabel) {
-    g_ << "set title " << quoted(title) << "\nset ylabel " << quoted(ylabel)
+    g_ << "set title " << gnuplotQuoted(title) << "\nset ylabel " << gnuplotQuoted(ylabel)
        << "\nset autoscale y\n";
   }
 
@@ -202,9 +201,9 @@ class Script {
     for (const Series& s : series) {
       const std::string e = expression(s);
       if (e.empty()) continue;
-      plots += plots.empty() ? "plot " + quoted(data_) : ", ''";
+      plots += plots.empty() ? "plot " + gnuplotQuoted(data_) : ", ''";
       plots += " " + every + "using " + using_(e) + " " + with + " " + s.style +
-               (s.title.empty() ? " notitle" : " title " + quoted(s.title));
+               (s.title.empty() ? " notitle" : " title " + gnuplotQuoted(s.title));
     }
     if (plots.empty())
       g_ << "set label 1 'no data in this recording' at graph 0.5,0.5 center\n"
@@ -334,10 +333,11 @@ std::string plotScript(const TelemetryTable& t, const std::string& data, const s
       every > 1 ? o.title + " (1 frame in " + std::to_string(every) + " drawn)" : o.title;
   Script s(t, data, o, every);
   s.out() << "set terminal pngcairo size 1500," << 450 * rows << " noenhanced font ',10'\n"
-          << "set output " << quoted(out) << "\n"
+          << "set output " << gnuplotQuoted(out) << "\n"
           << "set datafile separator '\\t'\nset datafile missing 'NaN'\n"
           << "set grid\nset key top right\n"
-          << "set multiplot layout " << rows << "," << cols << " title " << quoted(title) << "\n";
+          << "set multiplot layout " << rows << "," << cols << " title " << gnuplotQuoted(title)
+          << "\n";
   if (name == "fig3") fig3(s);
   else if (name == "fig6") fig6(s);
   else if (name == "contacts") contacts(s);

@@ -5,11 +5,6 @@
 #include <cmath>
 
 namespace ballast::mpc {
-namespace {
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
-}  // namespace
 
 RiccatiSolver::RiccatiSolver(int horizonNodes, int nx, int nu)
     : N_(horizonNodes), nx_(nx), nu_(nu), proj_(horizonNodes), L_(horizonNodes), G_(horizonNodes),

@@ -23,11 +23,17 @@
 
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
+#include <chrono>
 #include <vector>
 
 #include "mpc/lq_problem.hpp"
 
 namespace ballast::mpc {
+
+/// Wall time since t0, ms: the unit of the solvers' timings.
+inline double msSince(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
 
 struct RiccatiTimings {
   double riccatiMs = 0.0;  ///< sweep(): backward sweep and forward pass

@@ -9,9 +9,6 @@ namespace ballast::mpc {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 bool finite(const std::vector<Eigen::VectorXd>& v) {
   for (const auto& x : v)
     if (!x.allFinite()) return false;

@@ -11,10 +11,6 @@
 
 namespace ballast::wbc {
 
-namespace {
-constexpr double kInf = std::numeric_limits<double>::infinity();
-}
-
 const char* toString(HqpStatus status) {
   switch (status) {
     case HqpStatus::kOk: return "ok";

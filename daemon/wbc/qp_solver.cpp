@@ -11,7 +11,6 @@
 namespace ballast::wbc {
 
 namespace {
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr std::uint8_t kEquality = 0, kInequality = 1, kBound = 2;
 
 /// √(a² + b²) without std::hypot's overflow guard (a fifth of a solve's time); the entries of J

@@ -39,11 +39,15 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
 
 namespace ballast::wbc {
+
+/// The value of a side that does not bind: lower = −kInf, upper = +kInf.
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
 
 /// Largest problem a QpSolver instance can take.
 struct QpCapacity {

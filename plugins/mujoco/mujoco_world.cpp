@@ -14,7 +14,6 @@
 namespace ballast::mujoco {
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kDivergedSpeed = 1e3;  // m/s or rad/s: no robot gets there
 
 // MuJoCo's own error handler prints, waits for Enter and exits: a daemon must not. Errors become
@@ -155,7 +154,7 @@ MujocoWorld::MujocoWorld(const WorldOptions& options)
     const double effort = built_.effortLimit.at(name);  // 0: the URDF gives none
     torqueLimit_.push_back(s.torque_limit_scale == 0.0 ? 0.0
                            : effort > 0.0              ? effort * s.torque_limit_scale
-                                                       : kInf);
+                                                       : std::numeric_limits<double>::infinity());
   }
   jointDamping_ = s.joint_damping;
   geomContact_.assign(static_cast<std::size_t>(m_->ngeom), -1);
@@ -207,7 +206,7 @@ MujocoWorld::LinkRef MujocoWorld::frameFor(const schema::FrameRef& ref, const st
 }
 
 double MujocoWorld::terrainHeight(double x, double y) const {
-  double h = floor_ ? floorHeight_ : -kInf;
+  double h = floor_ ? floorHeight_ : -std::numeric_limits<double>::infinity();
   if (!columns_.empty()) {
     const int ix = static_cast<int>(std::floor((x - columns_.x0) / columns_.resolution));
     const int iy = static_cast<int>(std::floor((y - columns_.y0) / columns_.resolution));
@@ -232,7 +231,7 @@ void MujocoWorld::reset() {
   d_->qpos[adr + 6] = std::sin(initialYaw_ / 2);
   mj_kinematics(m_, d_);
   // Raise the base until every robot geom clears the terrain under it.
-  double rise = -kInf;
+  double rise = -std::numeric_limits<double>::infinity();
   auto below = [&](const std::array<double, 3>& p, double radius) {
     const double h = terrainHeight(p[0], p[1]);
     if (std::isfinite(h)) rise = std::max(rise, h + radius - p[2]);

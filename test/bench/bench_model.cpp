@@ -6,15 +6,12 @@
 
 #include "model/algorithms.hpp"
 #include "model/autodiff.hpp"
+#include "test/unit/test_support.hpp"
 
 namespace {
 
 using namespace ballast::model;
-
-const Model& robot() {
-  static const Model m = loadUrdfFile(std::string(BALLAST_SOURCE_DIR) + "/urdf/humanoid.urdf");
-  return m;
-}
+using ballast::test::humanoid;
 
 struct State {
   VecX<double> q, v, a;
@@ -23,51 +20,51 @@ State randomState() {
   std::mt19937 rng(42);
   std::uniform_real_distribution<double> u(-1, 1);
   State s;
-  s.q = randomConfiguration(robot(), rng);
-  s.v = VecX<double>::NullaryExpr(robot().nv, [&] { return u(rng); });
-  s.a = VecX<double>::NullaryExpr(robot().nv, [&] { return u(rng); });
+  s.q = randomConfiguration(humanoid(), rng);
+  s.v = VecX<double>::NullaryExpr(humanoid().nv, [&] { return u(rng); });
+  s.a = VecX<double>::NullaryExpr(humanoid().nv, [&] { return u(rng); });
   return s;
 }
 std::vector<int> contactFrames() {
-  const Model& m = robot();
+  const Model& m = humanoid();
   return {m.frameId("left_toe"), m.frameId("left_heel"), m.frameId("right_toe"),
           m.frameId("right_heel")};
 }
 
 void BM_ForwardKinematics(benchmark::State& st) {
-  Data<double> d(robot());
+  Data<double> d(humanoid());
   const State s = randomState();
   for (auto _ : st) {
-    forwardKinematics(robot(), d, s.q);
+    forwardKinematics(humanoid(), d, s.q);
     benchmark::DoNotOptimize(d.oMi.back());
   }
 }
 BENCHMARK(BM_ForwardKinematics);
 
 void BM_MassMatrix(benchmark::State& st) {
-  Data<double> d(robot());
+  Data<double> d(humanoid());
   const State s = randomState();
-  for (auto _ : st) benchmark::DoNotOptimize(crba(robot(), d, s.q).data());
+  for (auto _ : st) benchmark::DoNotOptimize(crba(humanoid(), d, s.q).data());
 }
 BENCHMARK(BM_MassMatrix);
 
 void BM_NonlinearEffects(benchmark::State& st) {
-  Data<double> d(robot());
+  Data<double> d(humanoid());
   const State s = randomState();
-  for (auto _ : st) benchmark::DoNotOptimize(nonLinearEffects(robot(), d, s.q, s.v).data());
+  for (auto _ : st) benchmark::DoNotOptimize(nonLinearEffects(humanoid(), d, s.q, s.v).data());
 }
 BENCHMARK(BM_NonlinearEffects);
 
 void BM_InverseDynamics(benchmark::State& st) {
-  Data<double> d(robot());
+  Data<double> d(humanoid());
   const State s = randomState();
-  for (auto _ : st) benchmark::DoNotOptimize(rnea(robot(), d, s.q, s.v, s.a).data());
+  for (auto _ : st) benchmark::DoNotOptimize(rnea(humanoid(), d, s.q, s.v, s.a).data());
 }
 BENCHMARK(BM_InverseDynamics);
 
 /// The four contact points: Jacobians (3 x 30) and J̇·v, as the WBC needs them each tick.
 void BM_ContactJacobians(benchmark::State& st) {
-  const Model& m = robot();
+  const Model& m = humanoid();
   Data<double> d(m);
   const State s = randomState();
   const std::vector<int> contacts = contactFrames();
@@ -84,22 +81,23 @@ void BM_ContactJacobians(benchmark::State& st) {
 BENCHMARK(BM_ContactJacobians);
 
 void BM_CentroidalMomentumMatrix(benchmark::State& st) {
-  Data<double> d(robot());
+  Data<double> d(humanoid());
   const State s = randomState();
-  for (auto _ : st) benchmark::DoNotOptimize(ccrba(robot(), d, s.q, s.v).data());
+  for (auto _ : st) benchmark::DoNotOptimize(ccrba(humanoid(), d, s.q, s.v).data());
 }
 BENCHMARK(BM_CentroidalMomentumMatrix);
 
 void BM_CentroidalMomentumBias(benchmark::State& st) {
-  Data<double> d(robot());
+  Data<double> d(humanoid());
   const State s = randomState();
-  for (auto _ : st) benchmark::DoNotOptimize(centroidalMomentumBias(robot(), d, s.q, s.v).data());
+  for (auto _ : st)
+    benchmark::DoNotOptimize(centroidalMomentumBias(humanoid(), d, s.q, s.v).data());
 }
 BENCHMARK(BM_CentroidalMomentumBias);
 
 /// ẋ = f(x, u) of the paper's eq. (1) at one node.
 void BM_CentroidalDynamics(benchmark::State& st) {
-  const Model& m = robot();
+  const Model& m = humanoid();
   Data<double> d(m);
   const std::vector<int> contacts = contactFrames();
   const CentroidalLayout L{m.nj(), 4};
@@ -116,7 +114,7 @@ BENCHMARK(BM_CentroidalDynamics);
 /// ∂f/∂x and ∂f/∂u of eq. (1) at one node (36 x 36 and 36 x 36), analytic O(n): what the
 /// MPC's linearisation uses.
 void BM_CentroidalDynamicsDerivatives(benchmark::State& st) {
-  const Model& m = robot();
+  const Model& m = humanoid();
   Data<double> d(m);
   const std::vector<int> contacts = contactFrames();
   const CentroidalLayout L{m.nj(), 4};
@@ -135,7 +133,7 @@ BENCHMARK(BM_CentroidalDynamicsDerivatives);
 
 /// The same Jacobians by forward-mode ceres::Jet in chunks of 8 (the tests' reference path).
 void BM_CentroidalDynamicsDerivativesJet(benchmark::State& st) {
-  const Model& m = robot();
+  const Model& m = humanoid();
   constexpr int kChunk = 8;
   Data<ceres::Jet<double, kChunk>> d(m);
   const std::vector<int> contacts = contactFrames();

@@ -18,14 +18,8 @@ namespace {
 using namespace ballast;
 using model::CentroidalLayout;
 
-const model::Model& robot() {
-  static const model::Model m =
-      model::loadUrdfFile(std::string(BALLAST_SOURCE_DIR) + "/urdf/humanoid.urdf");
-  return m;
-}
-
 struct Setup {
-  const model::Model& m = robot();
+  const model::Model& m = test::humanoid();
   std::array<int, 4> frames{m.frameId("left_toe"), m.frameId("left_heel"), m.frameId("right_toe"),
                             m.frameId("right_heel")};
   CentroidalLayout L{m.nj(), 4};
@@ -114,7 +108,7 @@ namespace {
 /// line search.
 void mpcIteration(benchmark::State& st, const char* profilePath) {
   using namespace ballast;
-  const model::Model& m = robot();
+  const model::Model& m = test::humanoid();
   const profile::Profile p = profile::Profile::load(std::string(BALLAST_SOURCE_DIR) + profilePath);
   const control::ControlSettings settings = profile::buildSettings(p, m);
   const gait::FlatTerrain ground;

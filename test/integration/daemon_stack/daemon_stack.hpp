@@ -4,12 +4,24 @@
 // needs to reach, say, every phase of the gait.
 #pragma once
 
+#include <cstdlib>
 #include <memory>
 #include <string>
 
 #include "main/daemon.hpp"
 
 namespace ballast::test {
+
+/// The shipped default profile, profiles/sim-flat.yaml.
+inline const std::string kDefaultProfile =
+    std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat.yaml";
+
+/// The environment variable `name` as a number, `fallback` when it is unset: a test's knob for
+/// a run by hand.
+inline double envOr(const char* name, double fallback) {
+  const char* v = std::getenv(name);
+  return v ? std::atof(v) : fallback;
+}
 
 class DaemonStack {
  public:

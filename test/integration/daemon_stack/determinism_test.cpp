@@ -12,11 +12,9 @@
 namespace ballast::test {
 namespace {
 
-const std::string kProfile = std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat.yaml";
-
 /// The ground-truth base after standing up and walking at 1.0 m/s for 3 s.
 std::vector<double> walkAndRecord() {
-  DaemonStack robot(kProfile);
+  DaemonStack robot(kDefaultProfile);
   EXPECT_TRUE(robot.waitForMode(control::Mode::kStand, 5.0));
   EXPECT_TRUE(robot.run(0.3));
   EXPECT_EQ(robot.walk(1.0), control::Refusal::kNone);

@@ -38,7 +38,7 @@ using ballast::test::PushTrial;
 using ballast::test::PushOutcome;
 
 struct Options {
-  std::string profile = std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat.yaml";
+  std::string profile = ballast::test::kDefaultProfile;
   std::vector<double> speeds{0.0, 0.5, 1.0};
   int directions = 8;
   std::vector<double> angles;  ///< --angles: these directions (deg) instead of --directions

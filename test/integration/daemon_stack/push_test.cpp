@@ -16,18 +16,11 @@
 namespace ballast::test {
 namespace {
 
-const std::string kProfile = std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat.yaml";
-
 // Mirror cells: the robot, its standing posture and its gait are left-right symmetric, and the
 // gait's second half cycle is its first with the feet swapped. A push mirrored in the sagittal
 // plane half a cycle later meets the mirrored robot: along +y at phase p it is -y at p + 0.5,
 // along x at p it is x at p + 0.5, and standing, a push to the right is one to the left. So
 // each test below tries one cell of each mirror pair (ballast-push-map sweeps them all).
-
-double envOr(const char* name, double fallback) {
-  const char* v = std::getenv(name);
-  return v ? std::atof(v) : fallback;
-}
 
 /// Stands the robot up, walks it at 0.5 m/s on the profile's 0.8 s gait and runs 4 s into the
 /// walk; t0: when the walk was commanded (the gait's phase counts from it).
@@ -49,7 +42,7 @@ void startWalking(DaemonStack& robot, double& t0) {
 // estimate without touch-down spikes all sixteen hold again (0.43-0.44 m/s over the cycle
 // before the next push; the bound is 0.4).
 TEST(Push, FortyNewtonsForOneSecondAtEveryPhaseOfTheGait) {
-  DaemonStack robot(kProfile);
+  DaemonStack robot(kDefaultProfile);
   double t0 = 0.0;
   ASSERT_NO_FATAL_FAILURE(startWalking(robot, t0));
   const double period = robot.settings().locomotion.walkGait.period;
@@ -109,7 +102,7 @@ TEST(PushSweep, OneRobotPerPhase) {
   const double period = 0.8;
   int fell = 0;
   for (int k = 0; k < phases; ++k) {
-    DaemonStack robot(profile ? std::string(profile) : kProfile);
+    DaemonStack robot(profile ? std::string(profile) : kDefaultProfile);
     ASSERT_TRUE(robot.waitForMode(control::Mode::kStand, 5.0));
     ASSERT_TRUE(robot.run(0.5));
     ASSERT_EQ(robot.walk(envOr("BALLAST_PUSH_VX", 0.5)), control::Refusal::kNone);
@@ -153,7 +146,7 @@ TEST_P(StandingPush, RecoversAndStandsAgain) {
   PushTrial trial;
   trial.profile = GetParam().pushProfile
                       ? std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat-push.yaml"
-                      : kProfile;
+                      : kDefaultProfile;
   trial.speed = 0.0;
   trial.force = GetParam().force;
   trial.directionDeg = GetParam().direction;

@@ -15,13 +15,7 @@
 namespace ballast::test {
 namespace {
 
-const std::string kProfile = std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat.yaml";
 constexpr double kPeriod = 0.8;  // sim-flat's gait.period
-
-double envOr(const char* name, double fallback) {
-  const char* v = std::getenv(name);
-  return v ? std::atof(v) : fallback;
-}
 
 /// walk_stop.sh's test of rest: standing, ground-truth base speed under 0.05 m/s, the four
 /// contact points on the ground.
@@ -40,7 +34,7 @@ struct StopResult {
 /// Walking at vx for `walk` s plus `offset`, then `ballast stop`; `trace` prints the stop.
 StopResult stopAt(double vx, double walk, double offset, bool trace) {
   const char* profile = std::getenv("BALLAST_STOP_PROFILE");  // development: another profile
-  DaemonStack robot(profile ? std::string(profile) : kProfile);
+  DaemonStack robot(profile ? std::string(profile) : kDefaultProfile);
   StopResult r;
   EXPECT_TRUE(robot.waitForMode(control::Mode::kStand, 5.0));
   EXPECT_TRUE(robot.run(0.5));
@@ -125,7 +119,7 @@ TEST(WalkSweep, OneRobotPerStart) {
   const double vx = envOr("BALLAST_WALK_VX", 1.2);
   int bad = 0;
   for (int k = 0; k < phases; ++k) {
-    DaemonStack robot(kProfile);
+    DaemonStack robot(kDefaultProfile);
     ASSERT_TRUE(robot.waitForMode(control::Mode::kStand, 5.0));
     ASSERT_TRUE(robot.run(0.5 + k * kPeriod / phases));
     ASSERT_EQ(robot.walk(vx), control::Refusal::kNone);

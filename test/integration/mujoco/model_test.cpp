@@ -175,7 +175,7 @@ TEST(MujocoModel, ASphereMeetsTheStagesTopSideAndEdgeAsTheColumnsHaveThem) {
   EXPECT_EQ(touch(edge - r - 0.001, top - 0.05).count, 0);
 }
 
-std::string errorOf(const std::string& urdf, const std::string& yaml = "") {
+std::string worldError(const std::string& urdf, const std::string& yaml = "") {
   const std::string path = ::testing::TempDir() + "bad.urdf";
   std::ofstream(path) << urdf;
   WorldOptions o = options(yaml);
@@ -194,15 +194,15 @@ std::string errorOf(const std::string& urdf, const std::string& yaml = "") {
 
 TEST(MujocoModel, BadUrdfsNameTheElement) {
   const std::string base = std::string("<robot name='r'><link name='base'>") + kLinkWithMass + "</link>";
-  EXPECT_EQ(errorOf("<robot name='r'><link name='base'/><link name='foot'/><joint name='f' type='fixed'>"
+  EXPECT_EQ(worldError("<robot name='r'><link name='base'/><link name='foot'/><joint name='f' type='fixed'>"
                     "<parent link='base'/><child link='foot'/></joint></robot>"),
             "bad.urdf: the root link 'base' has no <inertial>: the floating base needs a mass");
-  EXPECT_EQ(errorOf(base + "<link name='leg'>" + kLinkWithMass + "</link><joint name='slide' type='planar'>"
+  EXPECT_EQ(worldError(base + "<link name='leg'>" + kLinkWithMass + "</link><joint name='slide' type='planar'>"
                            "<parent link='base'/><child link='leg'/></joint><link name='foot'/><joint name='f' type='fixed'>"
                            "<parent link='leg'/><child link='foot'/></joint></robot>"),
             "bad.urdf: joint 'slide': only revolute, continuous, prismatic and fixed joints are "
             "simulated (the root's floating joint aside)");
-  EXPECT_EQ(errorOf(base + "<link name='toe'/><joint name='t' type='fixed'><parent link='base'/>"
+  EXPECT_EQ(worldError(base + "<link name='toe'/><joint name='t' type='fixed'><parent link='base'/>"
                            "<child link='toe'/></joint></robot>"),
             "bad.urdf: no link 'foot' (contact frame 0)");
 }

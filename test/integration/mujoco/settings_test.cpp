@@ -8,7 +8,7 @@
 namespace ballast::mujoco {
 namespace {
 
-std::string errorOf(const std::string& yaml, const std::string& origin = "sim.yaml:10") {
+std::string settingsError(const std::string& yaml, const std::string& origin = "sim.yaml:10") {
   try {
     parseMujocoSettings(yaml, origin);
   } catch (const SettingsError& e) {
@@ -68,15 +68,17 @@ TEST(MujocoSettings, TheSensorAndLidarKeysFeedTheSharedModels) {
 }
 
 TEST(MujocoSettings, ErrorsSayFileLineColumnKeyAndWhatIsWrong) {
-  EXPECT_EQ(errorOf("friction: 0.5\nfriciton: 0.7\n"),
+  EXPECT_EQ(settingsError("friction: 0.5\nfriciton: 0.7\n"),
             "sim.yaml:11:1: friciton: unknown key (did you mean friction?)");
-  EXPECT_EQ(errorOf("integrator: verlet\n"),
+  EXPECT_EQ(settingsError("integrator: verlet\n"),
             "sim.yaml:10:13: integrator: expected one of euler|implicit, got 'verlet'");
-  EXPECT_EQ(errorOf("substeps: 0\n"), "sim.yaml:10:11: substeps: 0 is out of range [1, 100]");
-  EXPECT_EQ(errorOf("contact_impedance: [0.99, 0.9, 0.001]\n"),
+  EXPECT_EQ(settingsError("substeps: 0\n"), "sim.yaml:10:11: substeps: 0 is out of range [1, 100]");
+  EXPECT_EQ(settingsError("contact_impedance: [0.99, 0.9, 0.001]\n"),
             "sim.yaml:10:1: contact_impedance: dmin (0.99) is above dmax (0.9)");
-  EXPECT_EQ(errorOf("lidar:\n  rate: -3\n"), "sim.yaml:11:9: lidar.rate: -3 is out of range [0.1, 100]");
-  EXPECT_EQ(errorOf("- 1\n"), "sim.yaml:10:1: the mujoco backend section must be a map of keys");
+  EXPECT_EQ(settingsError("lidar:\n  rate: -3\n"),
+            "sim.yaml:11:9: lidar.rate: -3 is out of range [0.1, 100]");
+  EXPECT_EQ(settingsError("- 1\n"),
+            "sim.yaml:10:1: the mujoco backend section must be a map of keys");
 }
 
 TEST(MujocoSettings, SharedKeysHaveTheSimbodyBackendsDefaultsAndBounds) {

@@ -17,11 +17,12 @@
 #include <thread>
 
 #include "control/control_loop.hpp"
-#include "test/unit/control/attached_planner.hpp"
 #include "control/mpc_planner.hpp"
 #include "control/terrain_mapper.hpp"
 #include "profile/settings.hpp"
 #include "test/unit/allocation_counter.hpp"
+#include "test/unit/control/attached_planner.hpp"
+#include "test/unit/settings_support.hpp"
 #include "test/unit/test_support.hpp"
 
 extern "C" const ballast::backend::BackendEntry* ballast_backend_entry();
@@ -30,10 +31,9 @@ extern "C" const ballast::backend::BackendEntry* ballast_backend_entry();
 namespace ballast::control {
 namespace {
 
-ControlSettings simFlat() {
-  const profile::Profile p =
-      profile::Profile::load(std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat.yaml");
-  ControlSettings s = profile::buildSettings(p, test::humanoid());
+/// The default profile, starting passive and standing up in half a second.
+ControlSettings passiveSimFlat() {
+  ControlSettings s = test::simFlat().control;
   s.initial_mode = Mode::kPassive;
   s.stand_up_duration = 0.5;
   return s;
@@ -42,7 +42,7 @@ ControlSettings simFlat() {
 class LoopOnFake : public ::testing::Test {
  protected:
   void SetUp() override {
-    settings_ = simFlat();
+    settings_ = passiveSimFlat();
     backend_ = ballast_backend_entry()->create();
     backend::Config config;
     config.section_yaml = section_;
@@ -284,7 +284,7 @@ TEST_F(LoopOnFake, APlannerFailureKeepsTheLastPlanUntilItIsTooOld) {
 }
 
 TEST(MpcPlannerInput, ANotANumberStateGivesNoPlan) {
-  ControlSettings settings = simFlat();
+  ControlSettings settings = passiveSimFlat();
   MpcPlanner planner(test::humanoid(), settings, std::make_shared<const terrain::HeightMap>());
   PlannerInput in;
   in.mode = Mode::kStand;
@@ -308,7 +308,7 @@ TEST(MpcPlannerInput, ANotANumberStateGivesNoPlan) {
 // it takes their numbers at its next plan made standing and lets go of them, and a request it
 // has not taken yet is replaced by a later one (the IO side then frees the first).
 TEST(MpcPlannerInput, NewSettingsAreSharedAndLetGoOnceTaken) {
-  const ControlSettings settings = simFlat();
+  const ControlSettings settings = passiveSimFlat();
   MpcPlanner planner(test::humanoid(), settings, std::make_shared<const terrain::HeightMap>());
   PlannerInput in;
   in.mode = Mode::kStand;

@@ -12,18 +12,13 @@
 #include "control/stand_posture.hpp"
 #include "model/algorithms.hpp"
 #include "profile/settings.hpp"
+#include "test/unit/settings_support.hpp"
 #include "test/unit/test_support.hpp"
 
 namespace ballast::control {
 namespace {
 
 using namespace model;
-
-ControlSettings simFlat() {
-  const profile::Profile p =
-      profile::Profile::load(std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat.yaml");
-  return profile::buildSettings(p, test::humanoid());
-}
 
 /// The contact points, in the profile's order.
 const char* const kContactFrames[] = {"left_toe", "left_heel", "right_toe", "right_heel"};
@@ -41,7 +36,7 @@ SE3<double> frameAt(const Model& m, Data<double>& d, const std::string& frame, d
 
 TEST(StandPosture, FeetStayWhereTheNominalStancePutsThem) {
   const Model& m = test::humanoid();
-  const ControlSettings s = simFlat();
+  const ControlSettings s = test::simFlat().control;
   StandPosture posture(m, s);
   Data<double> d(m);
   const double h0 = posture.nominalHeight();
@@ -116,7 +111,7 @@ void expectLevelBaseOnTheFeet(const Model& m, const ControlSettings& s, double h
 
 TEST(StandPosture, AnchoredALevelBaseStandsOnTheFeetWhereTheyAre) {
   const Model& m = test::humanoid();
-  const ControlSettings s = simFlat();
+  const ControlSettings s = test::simFlat().control;
   StandPosture posture(m, s);
   Data<double> d(m);
   double q0[kMaxJoints];
@@ -152,7 +147,7 @@ TEST(StandPosture, AnchoredALevelBaseStandsOnTheFeetWhereTheyAre) {
 
 TEST(StandController, StandsUpToALevelBaseOverUnevenFeet) {
   const Model& m = test::humanoid();
-  const ControlSettings s = simFlat();
+  const ControlSettings s = test::simFlat().control;
   StandController controller(m, s);
   Data<double> d(m);
   ControllerInput in;
@@ -196,7 +191,7 @@ TEST(GravityFeedForward, DoesNoWorkAlongMotionsThatKeepTheFeetDown) {
   // Virtual work: with contact forces f, n(q) = Jcᵀ f + [0; τ]. For any velocity v that keeps
   // the contact points still (Jc v = 0) this gives vᵀ n = v_jᵀ τ, whatever f is.
   const Model& m = test::humanoid();
-  const ControlSettings s = simFlat();
+  const ControlSettings s = test::simFlat().control;
   StandController controller(m, s);
   StandPosture posture(m, s);
   EstimatedState state;

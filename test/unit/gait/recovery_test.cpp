@@ -12,7 +12,7 @@
 namespace ballast::gait {
 namespace {
 
-constexpr double kTol = 1e-9;
+constexpr double kRecoveryTol = 1e-9;
 
 /// Feet 0.2 m apart, toes 0.1 m ahead of the ankles and heels 0.1 m behind: the support polygon
 /// is the square [-0.1, 0.1]².
@@ -29,12 +29,12 @@ TEST(StandingRecovery, ThePointIsTheCapturePointPlusThePushsOffset) {
   // ω = 3.4, m = 50 kg: ċ = 0.34 m/s puts ξ 0.1 ahead of c, on the front edge; 20 N adds
   // 20 / (50 · 11.56) = 0.0346 m.
   const SupportCheck still = supportCheck(squareStance(), {0.0, 0.0}, {0.34, 0.0}, {0.0, 0.0}, 50.0, 3.4);
-  EXPECT_NEAR(still.point.x(), 0.1, kTol);
-  EXPECT_NEAR(still.outside, 0.0, kTol);
+  EXPECT_NEAR(still.point.x(), 0.1, kRecoveryTol);
+  EXPECT_NEAR(still.outside, 0.0, kRecoveryTol);
   const SupportCheck pushed =
       supportCheck(squareStance(), {0.0, 0.0}, {0.34, 0.0}, {20.0, 0.0}, 50.0, 3.4);
-  EXPECT_NEAR(pushed.point.x(), 0.1 + 20.0 / (50.0 * 3.4 * 3.4), kTol);
-  EXPECT_NEAR(pushed.outside, 20.0 / (50.0 * 3.4 * 3.4), kTol);
+  EXPECT_NEAR(pushed.point.x(), 0.1 + 20.0 / (50.0 * 3.4 * 3.4), kRecoveryTol);
+  EXPECT_NEAR(pushed.outside, 20.0 / (50.0 * 3.4 * 3.4), kRecoveryTol);
 }
 
 TEST(StandingRecovery, StepsOnlyBeyondTheMargin) {
@@ -47,11 +47,12 @@ TEST(StandingRecovery, StepsOnlyBeyondTheMargin) {
   EXPECT_FALSE(needsStep(supportCheck(stance, {0.0, 0.0}, {0.374, 0.0}, {0.0, 0.0}, 50.0, 3.4), p));
   // A robot at rest leaning 0.03 m into a steady 20 N push: the point 0.0046 ahead of the middle.
   const SupportCheck leaning = supportCheck(stance, {-0.03, 0.0}, {0.0, 0.0}, {20.0, 0.0}, 50.0, 3.4);
-  EXPECT_NEAR(leaning.outside, -(0.1 - (-0.03 + 20.0 / (50.0 * 3.4 * 3.4))), kTol);
+  EXPECT_NEAR(leaning.outside, -(0.1 - (-0.03 + 20.0 / (50.0 * 3.4 * 3.4))), kRecoveryTol);
   EXPECT_FALSE(needsStep(leaning, p));
   // Sideways, off a corner: distance to the corner (0.1, 0.1) from (0.13, 0.14) is 0.05.
   EXPECT_TRUE(needsStep(supportCheck(stance, {0.13, 0.14}, {0.0, 0.0}, {0.0, 0.0}, 50.0, 3.4), p));
-  EXPECT_NEAR(supportCheck(stance, {0.13, 0.14}, {0.0, 0.0}, {0.0, 0.0}, 50.0, 3.4).outside, 0.05, kTol);
+  EXPECT_NEAR(supportCheck(stance, {0.13, 0.14}, {0.0, 0.0}, {0.0, 0.0}, 50.0, 3.4).outside, 0.05,
+              kRecoveryTol);
   p.enabled = false;
   EXPECT_FALSE(needsStep(supportCheck(stance, {0.13, 0.14}, {0.0, 0.0}, {0.0, 0.0}, 50.0, 3.4), p));
 }
@@ -87,10 +88,10 @@ TEST(StandingRecovery, RightFirstSwingsTheRightFootFirst) {
   SwingInterval right, left;
   ASSERT_TRUE(s.swingAround(kRightToe, 1.0, 3.0, right));
   ASSERT_TRUE(s.swingAround(kLeftToe, 1.0, 3.0, left));
-  EXPECT_NEAR(right.liftOff, 1.08, kTol);
-  EXPECT_NEAR(right.touchDown, 1.40, kTol);
-  EXPECT_NEAR(left.liftOff, 1.48, kTol);
-  EXPECT_NEAR(left.touchDown, 1.80, kTol);
+  EXPECT_NEAR(right.liftOff, 1.08, kRecoveryTol);
+  EXPECT_NEAR(right.touchDown, 1.40, kRecoveryTol);
+  EXPECT_NEAR(left.liftOff, 1.48, kRecoveryTol);
+  EXPECT_NEAR(left.touchDown, 1.80, kRecoveryTol);
   EXPECT_FALSE(g == Gait({true, 0.8, 0.2, 0.0}));  // a different gait: the schedule tells them apart
 }
 
@@ -147,23 +148,27 @@ TEST(StandingRecovery, ASidewaysStepIsQuickerTheFartherThePointIsOut) {
   const Eigen::Vector2d toe(0.1, -0.1), heel(-0.1, -0.1);
   const double expected = 2.0 * std::log(2.25) / kOmega;
   EXPECT_NEAR(expected, 0.54062, 1e-5);
-  EXPECT_NEAR(recoveryPeriod({0.0, 0.1}, toe, heel, 0.0, true, StepLimits{}, kOmega, kWalk, kShortest),
-              expected, kTol);
+  EXPECT_NEAR(
+      recoveryPeriod({0.0, 0.1}, toe, heel, 0.0, true, StepLimits{}, kOmega, kWalk, kShortest),
+      expected, kRecoveryTol);
   // Heading along +y (the same feet and point turned by 90 degrees): the same period.
   EXPECT_NEAR(recoveryPeriod({-0.1, 0.0}, {0.1, 0.1}, {0.1, -0.1}, M_PI / 2, true, StepLimits{},
                              kOmega, kWalk, kShortest),
-              expected, kTol);
+              expected, kRecoveryTol);
   // Already beyond the widest step at 0.6 from p (reach 0.45/0.6 < 1): the shortest.
-  EXPECT_NEAR(recoveryPeriod({0.0, 0.5}, toe, heel, 0.0, true, StepLimits{}, kOmega, kWalk, kShortest),
-              kShortest, kTol);
+  EXPECT_NEAR(
+      recoveryPeriod({0.0, 0.5}, toe, heel, 0.0, true, StepLimits{}, kOmega, kWalk, kShortest),
+      kShortest, kRecoveryTol);
   // 0.05 out: e^{ωt} = 9, 2 ln 9 / 3 = 1.46 s, longer than walking: the walking period.
-  EXPECT_NEAR(recoveryPeriod({0.0, -0.05}, toe, heel, 0.0, true, StepLimits{}, kOmega, kWalk, kShortest),
-              kWalk, kTol);
+  EXPECT_NEAR(
+      recoveryPeriod({0.0, -0.05}, toe, heel, 0.0, true, StepLimits{}, kOmega, kWalk, kShortest),
+      kWalk, kRecoveryTol);
   // On the toe-heel line nothing runs away: the walking period. A shortest period above it: that.
-  EXPECT_NEAR(recoveryPeriod({0.05, -0.1}, toe, heel, 0.0, true, StepLimits{}, kOmega, kWalk, kShortest),
-              kWalk, kTol);
+  EXPECT_NEAR(
+      recoveryPeriod({0.05, -0.1}, toe, heel, 0.0, true, StepLimits{}, kOmega, kWalk, kShortest),
+      kWalk, kRecoveryTol);
   EXPECT_NEAR(recoveryPeriod({0.0, 0.5}, toe, heel, 0.0, true, StepLimits{}, kOmega, kWalk, 1.0),
-              kWalk, kTol);
+              kWalk, kRecoveryTol);
 }
 
 TEST(StandingRecovery, AStepBackTakesItsTimeFromTheHeel) {
@@ -175,7 +180,7 @@ TEST(StandingRecovery, AStepBackTakesItsTimeFromTheHeel) {
   EXPECT_NEAR(expected, 0.61086, 1e-5);
   EXPECT_NEAR(recoveryPeriod({-0.2, 0.0}, {0.1, 0.1}, {-0.1, 0.1}, 0.0, false, StepLimits{}, kOmega,
                              kWalk, kShortest),
-              expected, kTol);
+              expected, kRecoveryTol);
 }
 
 }  // namespace
