@@ -51,6 +51,7 @@ struct Options {
   bool trace = false;
   bool unpushed = false;  ///< no pushes: the estimated push walking undisturbed, per speed
   double speed = 0.5, direction = 0.0, phase = 0.0, force = 60.0;
+  double standBefore = 1.0;  ///< --stand-before: standing, s from 0.5 s after stand to the push
 };
 
 [[noreturn]] void usage(const char* why) {
@@ -62,7 +63,8 @@ struct Options {
                "         [--after 4] [--body torso] [-j JOBS] [--out DIR]\n"
                "       ballast-push-map --unpushed [--profile FILE] [--speeds 0.5,1.0,1.2,1.5]\n"
                "       ballast-push-map --trace [--profile FILE] --speed V --direction DEG\n"
-               "         --phase FRACTION --force N [--duration 1] [--after 4] [--body LINK]\n");
+               "         --phase FRACTION --force N [--duration 1] [--after 4] [--body LINK]\n"
+               "         [--stand-before 1] (standing: s from 0.5 s after stand to the push)\n");
   std::exit(2);
 }
 
@@ -101,6 +103,7 @@ Options parse(int argc, char** argv) {
     else if (a == "--direction") o.direction = std::atof(value().c_str());
     else if (a == "--phase") o.phase = std::atof(value().c_str());
     else if (a == "--force") o.force = std::atof(value().c_str());
+    else if (a == "--stand-before") o.standBefore = std::atof(value().c_str());
     else if (a == "-h" || a == "--help") usage(nullptr);
     else usage(("unknown argument " + a).c_str());
   }
@@ -160,6 +163,7 @@ int trace(const Options& o) {
   t.duration = o.duration;
   t.after = o.after;
   t.body = o.body;
+  t.standBefore = o.standBefore;
   t.trace = stdout;
   const PushOutcome r = ballast::test::runPushTrial(t);
   std::printf("%s: %s\n", r.survived ? "survived" : "FELL", r.message.c_str());

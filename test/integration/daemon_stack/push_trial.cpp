@@ -67,7 +67,8 @@ PushOutcome runPushTrial(const PushTrial& trial) {
   const double t0 = robot.t();
   PushOutcome out;
   char line[512];
-  const double pushAt = t0 + (walking ? trial.walkBefore + trial.phase * period : 1.0);
+  const double pushAt =
+      t0 + (walking ? trial.walkBefore + trial.phase * period : trial.standBefore);
   auto fell = [&](const char* when) {
     const control::LoopStatus s = robot.status();
     std::snprintf(line, sizeof line, "fell %s at t %.2f s (%.2f s after the push began)%s%s", when,

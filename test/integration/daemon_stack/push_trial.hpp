@@ -20,6 +20,7 @@ struct PushTrial {
   double duration = 1.0;      ///< s
   double after = 4.0;         ///< s watched after the push ends
   double walkBefore = 4.0;    ///< s walked before the cycle the push lands in
+  double standBefore = 1.0;   ///< standing: s from 0.5 s after `stand` to the push
   std::string body = "torso";
   std::FILE* trace = nullptr;  ///< the state every 20 ms, when set
 };
