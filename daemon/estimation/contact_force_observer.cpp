@@ -18,6 +18,7 @@ ContactForceObserver::ContactForceObserver(const model::Model& model,
     : model_(model),
       frames_(contactFrames),
       r_(Eigen::VectorXd::Zero(model.nv)),
+      increment_(Eigen::VectorXd::Zero(model.nv)),
       vPrevious_(Eigen::VectorXd::Zero(model.nv)),
       J_(3, model.nv) {
   for (int c = 0; c < kContactPoints; ++c) {
@@ -53,13 +54,16 @@ ContactForceObserver::ContactForceObserver(const model::Model& model,
 void ContactForceObserver::update(const model::Data<double>& data, const Eigen::VectorXd& v,
                                   const Eigen::VectorXd& tau, double dt, double bandwidth) {
   const double alpha = std::min(bandwidth * dt, 1.0);
+  const bool first = !started_;
   for (int row : rows_) {
     const double staticPart = data.nle[row] - tau[row - 6];
-    if (!started_) {
+    if (first) {
+      increment_[row] = staticPart;
       r_[row] = staticPart;
     } else {
       const double inertial = data.M.row(row).dot(v - vPrevious_);
-      r_[row] = (1.0 - alpha) * r_[row] + alpha * staticPart + bandwidth * inertial;
+      increment_[row] = alpha * staticPart + bandwidth * inertial;
+      r_[row] = (1.0 - alpha) * r_[row] + increment_[row];
     }
   }
   vPrevious_ = v;
@@ -73,7 +77,7 @@ void ContactForceObserver::update(const model::Data<double>& data, const Eigen::
     ChainMatrix A(n, m);
     ChainVector b(n);
     for (int a = 0; a < n; ++a) {
-      b[a] = r_[foot.chain[a]];
+      b[a] = increment_[foot.chain[a]];
       for (int p = 0; p < static_cast<int>(foot.points.size()); ++p)
         A.block<1, 3>(a, 3 * p) = Jc_[foot.points[p]].col(foot.chain[a]).transpose();
     }
@@ -84,10 +88,14 @@ void ContactForceObserver::update(const model::Data<double>& data, const Eigen::
     rhs.noalias() = A.transpose() * b;
     const Eigen::LDLT<ForceMatrix> ldlt(N);
     const ForceVector F = ldlt.solve(rhs);
+    // The low-pass on the forces (world axes), each tick's increment through this tick's
+    // Jacobian (the header says why not r_ through it).
+    const double keep = first ? 0.0 : 1.0 - alpha;
     Eigen::Vector3d total = Eigen::Vector3d::Zero();
     for (int p = 0; p < static_cast<int>(foot.points.size()); ++p) {
-      force_[foot.points[p]] = F.segment<3>(3 * p);
-      total += F.segment<3>(3 * p);
+      Eigen::Vector3d& f = force_[foot.points[p]];
+      f = keep * f + F.segment<3>(3 * p);
+      total += f;
     }
     for (int point : foot.points) footForce_[point] = total;
   }

@@ -39,7 +39,7 @@ void captureFootholds(const CaptureStepInput& in, Step* steps, int n) {
     if (!step.fixed) {
       const double yaw = in.yaw + in.yawRate * (step.touchDown - in.t);
       const Eigen::Vector2d& offset = step.left ? b.left : b.right;
-      const Eigen::Vector2d target = xi + in.forceOffset - fromHeading(offset, yaw);
+      const Eigen::Vector2d target = xi - fromHeading(offset, yaw);  // no + d: header comment
       step.foothold = limitStep(target, stance, yaw, step.left, in.limits);
       step.limited = (step.foothold - target).squaredNorm() > 1e-12;
     }
