@@ -48,7 +48,7 @@ struct RecoveryParameters {
   /// Walking on the paper's footholds, an estimated push (horizontal, past the estimator's
   /// deadband) stronger than this hands the footholds to the capture point's, the push in the
   /// MPC's dynamics, until it has stayed under half this for a gait cycle. 0: never.
-  double walkingPushForce = 40.0;  ///< N
+  double walkingPushForce = 20.0;  ///< N
 };
 
 /// Where the robot's centre of pressure must be to hold its capture point still, and how far that
