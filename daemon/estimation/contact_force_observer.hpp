@@ -87,8 +87,9 @@ class ContactForceObserver {
   std::array<int, kContactPoints> frames_;
   std::vector<Foot> feet_;
   std::vector<int> rows_;  // union of the chains
-  Eigen::VectorXd r_, increment_,
-      vPrevious_;  // increment_: this tick's change of r_ before the decay
+  Eigen::VectorXd r_;
+  Eigen::VectorXd increment_;  // this tick's change of r_ before the decay
+  Eigen::VectorXd vPrevious_;
   Eigen::Matrix<double, 3, Eigen::Dynamic> J_;  // one contact point's Jacobian
   std::array<Eigen::Matrix<double, 3, Eigen::Dynamic>, kContactPoints> Jc_;
   std::array<Eigen::Vector3d, kContactPoints> force_, footForce_;
