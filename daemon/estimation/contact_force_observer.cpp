@@ -17,7 +17,6 @@ ContactForceObserver::ContactForceObserver(const model::Model& model,
                                            const std::array<int, kContactPoints>& contactFrames)
     : model_(model),
       frames_(contactFrames),
-      r_(Eigen::VectorXd::Zero(model.nv)),
       increment_(Eigen::VectorXd::Zero(model.nv)),
       vPrevious_(Eigen::VectorXd::Zero(model.nv)),
       J_(3, model.nv) {
@@ -59,11 +58,9 @@ void ContactForceObserver::update(const model::Data<double>& data, const Eigen::
     const double staticPart = data.nle[row] - tau[row - 6];
     if (first) {
       increment_[row] = staticPart;
-      r_[row] = staticPart;
     } else {
       const double inertial = data.M.row(row).dot(v - vPrevious_);
       increment_[row] = alpha * staticPart + bandwidth * inertial;
-      r_[row] = (1.0 - alpha) * r_[row] + increment_[row];
     }
   }
   vPrevious_ = v;
@@ -89,7 +86,7 @@ void ContactForceObserver::update(const model::Data<double>& data, const Eigen::
     const Eigen::LDLT<ForceMatrix> ldlt(N);
     const ForceVector F = ldlt.solve(rhs);
     // The low-pass on the forces (world axes), each tick's increment through this tick's
-    // Jacobian (the header says why not r_ through it).
+    // Jacobian (the header says why not the low-passed r through it).
     const double keep = first ? 0.0 : 1.0 - alpha;
     Eigen::Vector3d total = Eigen::Vector3d::Zero();
     for (int p = 0; p < static_cast<int>(foot.points.size()); ++p) {

@@ -66,10 +66,6 @@ class ContactForceObserver {
   /// toe and heel is where the centre of pressure is (a robot standing with its weight on its
   /// heels has a toe on the ground carrying little).
   const Eigen::Vector3d& footForce(int i) const { return footForce_[i]; }
-  /// The observer's estimate of (Σ J_iᵀ F_i) on every velocity coordinate it watches (the
-  /// feet's chains; other entries are zero), nv: low-passed in joint space (lags the legs'
-  /// turning; the forces do not go through it).
-  const Eigen::VectorXd& residual() const { return r_; }
 
  private:
   struct Foot {
@@ -87,8 +83,7 @@ class ContactForceObserver {
   std::array<int, kContactPoints> frames_;
   std::vector<Foot> feet_;
   std::vector<int> rows_;  // union of the chains
-  Eigen::VectorXd r_;
-  Eigen::VectorXd increment_;  // this tick's change of r_ before the decay
+  Eigen::VectorXd increment_;  // this tick's increment of r on the feet's chains (header), nv
   Eigen::VectorXd vPrevious_;
   Eigen::Matrix<double, 3, Eigen::Dynamic> J_;  // one contact point's Jacobian
   std::array<Eigen::Matrix<double, 3, Eigen::Dynamic>, kContactPoints> Jc_;

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <random>
 #include <string>
 
@@ -14,7 +13,7 @@
 
 namespace ballast::test {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using wbc::kInf;
 
 /// A random feasible QP: H = BᵀB + 0.1 I, rows and bounds around a random feasible point x0,
 /// some sides absent, and a linear term large enough that many constraints end up active.
