@@ -40,8 +40,7 @@ struct FootholdSearchParameters {
   double radius = 0.12;
   double step = 0.02;           ///< m, between the placements tried
   /// m, around each contact point that must be good: the sole beyond the point (2 cm on the
-  /// humanoid) and a swing's landing error onto a step (3-4 cm measured onto a 15 cm stage,
-  /// where a 3 cm patch put the heel on the edge, and it slid off)
+  /// humanoid) and a swing's landing error onto a step (3-4 cm onto a 15 cm stage)
   double patch = 0.06;
   double edgeTolerance = 0.02;  ///< m, largest height difference under a foot
   double maxSlope = 0.35;       ///< dz per metre (≈ 19°)
@@ -51,10 +50,8 @@ struct FootholdSearchParameters {
   double supportTolerance = 0.005;
   /// m, farthest a foot moves across itself (toe to heel being along it) to a supported
   /// placement: moving sideways narrows or widens the stance the robot rolls over, which the
-  /// gait does not plan for. Searched across the whole window, sim-rough seed 2 on Simbody moved
-  /// the feet 8 and 16 cm sideways in the first two steps (the left foot 2 cm from the right)
-  /// and fell 1.2 s into the walk (main walks it 30 s); held to 2 cm, seed 1 found no support
-  /// for a foot across an edge and fell 29.7 s in, as before; 4 cm walks both the 30 s.
+  /// gait does not plan for (searched across the whole window, a foot could land next to the
+  /// other); too tight, a foot across an edge finds no support at all.
   double supportShiftAcross = 0.04;
 };
 

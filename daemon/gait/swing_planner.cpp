@@ -107,8 +107,8 @@ Eigen::Vector3d SwingPlanner::footOffset(int contact, double touchDown, const Pl
   bool kept = false;
   // Where the last update put this touch-down's foot, while it is still good, supported and in
   // the window: the paper's foothold moves a little every update, and the nearest good place
-  // to it can jump from one side of a patch to another (sim-rough seed 2 on Simbody: a swinging
-  // foot's target went 13 cm to the left and back within 0.06 s, and the robot fell).
+  // to it can jump from one side of a patch to another and back within a few updates, which
+  // throws the swinging foot.
   for (int i = 0; i < previousOffsetCount_[foot] && !kept; ++i) {
     const FootOffset& last = previousOffsets_[foot][i];
     if (std::abs(last.touchDown - touchDown) >= 1e-6 || last.offset.isZero()) continue;
@@ -185,9 +185,8 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
         const PlanarPose base = state.base.predicted(command, s.touchDown - state.t);
         const double stance = schedule.gaitAt(s.touchDown).stanceDuration();
         // The centre of mass's velocity, not the base's: what the step has to catch is the
-        // centre of mass, and with heavy limbs the pelvis swings against it within a step (its
-        // velocity swung 0.1-0.9 m/s in each step of a stop from 1 m/s, and footholds from it
-        // fell at 2 of 8 stop phases from 1.0 m/s and 4 of 8 from 1.2).
+        // centre of mass, and with heavy limbs the pelvis swings against it within a step (by
+        // most of its velocity in a stop from 1 m/s).
         Eigen::Vector3d p = raibertFoothold(base, nominalOffsets_[c], state.comVelocity, vDesired,
                                             command.yawRate, stance, params_.foothold, terrain);
         p += footOffset(c, s.touchDown, base, state, vDesired, command.yawRate, stance, terrain);
