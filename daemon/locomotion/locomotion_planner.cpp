@@ -360,7 +360,10 @@ gait::PlanarPose LocomotionPlanner::referenceStart(double t, const Eigen::Vector
       advanced.yaw = heading_;
       advanced = advanced.predicted(planarCommand(command), std::max(0.0, t - commandTime_));
       heading_ = advanced.yaw;
-      position_ = advanced.position.head<2>();
+      // Walking on the capture point's footholds for a push, likewise for the position (the
+      // heading stays the operator's): a reference left on the path, up to maxPositionLead
+      // behind the body, has the plan pull the body back against the push and the steps.
+      position_ = pushStepping_ ? measured : Eigen::Vector2d(advanced.position.head<2>());
     }
     const Eigen::Vector2d lead = position_ - measured;
     if (lead.norm() > settings_.maxPositionLead)

@@ -14,8 +14,10 @@
 //   base: walking, the commanded velocity integrated as a position and a heading that advance
 //   with the command (so steady speed and heading errors show as position errors and are
 //   corrected, not inherited) — restarted from the measured base while the commanded velocity
-//   is still slewing — held within `maxPositionLead` of the measured base so a push is not
-//   followed by a sprint; then an arc over the horizon. Standing: over
+//   is still slewing, and its position kept at the measured base while a push has the
+//   footholds on the capture point's (RecoveryParameters::walkingPushForce) — held within
+//   `maxPositionLead` of the measured base so a push is not followed by a sprint; then an arc
+//   over the horizon. Standing: over
 //   the feet, facing their heading plus the pose yaw. Height above the ground the feet stand
 //   on (the terrain under the contact points, a swinging point's where it lands, averaged),
 //   roll and pitch from the pose command;

@@ -313,3 +313,43 @@ TEST_F(Locomotion, APushWalkingHandsTheFootholdsToTheCapturePointUntilItHasPasse
 
 }  // namespace
 }  // namespace ballast::locomotion
+
+namespace ballast::locomotion {
+namespace {
+
+TEST_F(Locomotion, APushWalkingTakesTheBaseReferenceWhereThePushTookTheBody) {
+  // On the capture point's footholds for a push (gait.recovery_walking_force), the base
+  // reference starts where the body is: the steps stop it, the plan does not pull it back to the
+  // path it was pushed off. Off its path without a push, the plan goes back by
+  // planner.max_position_lead.
+  const double limit = settings.recovery.walkingPushForce;
+  ASSERT_GT(limit, 0.0);
+  const double lead = settings.maxPositionLead;
+  ASSERT_GT(lead, 0.05);
+  const CentroidalLayout L{m.nj(), kNumContacts};
+  const int y = L.kBasePosition + 1;
+  // The plan's base y at its last node relative to its first, the whole robot moved `off`
+  // along +y after 1.5 s of walking, with a push along x (the footholds' switch) or none.
+  const auto drift = [&](double push, double off) {
+    LocomotionPlanner planner(m, settings, ground);
+    Eigen::VectorXd q = test::standingConfiguration(m), v = Eigen::VectorXd::Zero(m.nv);
+    Plan plan;
+    double t = 0;
+    LocomotionCommand cmd;
+    cmd.walk = true;
+    cmd.vx = 0.5;
+    run(planner, cmd, 1.5, q, v, plan, t);
+    planner.setExternalForce(Eigen::Vector3d(push, 0.0, 0.0));
+    run(planner, cmd, 0.02, q, v, plan, t);
+    q[1] += off;
+    run(planner, cmd, 0.01, q, v, plan, t);
+    return plan.x[plan.nodes][y] - plan.x[0][y];
+  };
+  const double pushed = drift(1.1 * limit, 2.0 * lead);
+  const double unpushed = drift(0.0, 2.0 * lead);
+  EXPECT_NEAR(pushed, 0.0, 0.02) << "pulled back towards the path";
+  EXPECT_LT(unpushed, -0.5 * lead) << "off its path unpushed, the plan went back";
+}
+
+}  // namespace
+}  // namespace ballast::locomotion
