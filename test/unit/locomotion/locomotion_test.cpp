@@ -311,12 +311,6 @@ TEST_F(Locomotion, APushWalkingHandsTheFootholdsToTheCapturePointUntilItHasPasse
       << "handed back in a swing";
 }
 
-}  // namespace
-}  // namespace ballast::locomotion
-
-namespace ballast::locomotion {
-namespace {
-
 TEST_F(Locomotion, APushWalkingTakesTheBaseReferenceWhereThePushTookTheBody) {
   // On the capture point's footholds for a push (gait.recovery_walking_force), the base
   // reference starts where the body is: the steps stop it, the plan does not pull it back to the
