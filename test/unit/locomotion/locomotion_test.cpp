@@ -102,6 +102,28 @@ class Locomotion : public ::testing::Test {
     }
     return xs;
   }
+
+  /// A robot standing on the planner's own model at t = 0, commanded to walk at `vx`; run()
+  /// closes the planner on that model as the fixture's run() does.
+  struct Walk {
+    Walk(Locomotion& fixture, double vx)
+        : f(fixture),
+          planner(f.m, f.settings, f.ground),
+          q(test::standingConfiguration(f.m)),
+          v(Eigen::VectorXd::Zero(f.m.nv)) {
+      cmd.walk = true;
+      cmd.vx = vx;
+    }
+    std::vector<double> run(double duration, Tracking how = Tracking::kFollowPlan) {
+      return f.run(planner, cmd, duration, q, v, plan, t, how);
+    }
+    Locomotion& f;
+    LocomotionPlanner planner;
+    Eigen::VectorXd q, v;
+    Plan plan;
+    double t = 0;
+    LocomotionCommand cmd;
+  };
 };
 
 TEST_F(Locomotion, StandsOnItsOwnModel) {
@@ -123,15 +145,9 @@ TEST_F(Locomotion, StandsOnItsOwnModel) {
 
 /// Walks at `vx` for 4 s; returns the mean speed over the last 2 s.
 double walkSpeed(Locomotion& f, double vx, Tracking how, Eigen::VectorXd& q) {
-  LocomotionPlanner planner(f.m, f.settings, f.ground);
-  q = test::standingConfiguration(f.m);
-  Eigen::VectorXd v = Eigen::VectorXd::Zero(f.m.nv);
-  Plan plan;
-  double t = 0;
-  LocomotionCommand cmd;
-  cmd.walk = true;
-  cmd.vx = vx;
-  const std::vector<double> xs = f.run(planner, cmd, 4.0, q, v, plan, t, how);
+  Locomotion::Walk walk(f, vx);
+  const std::vector<double> xs = walk.run(4.0, how);
+  q = walk.q;
   EXPECT_EQ(xs.size(), 400u);
   if (xs.size() != 400u) return 0.0;
   return (xs[399] - xs[199]) / 2.0;
@@ -280,34 +296,28 @@ TEST_F(Locomotion, APushWalkingHandsTheFootholdsToTheCapturePointUntilItHasPasse
   ASSERT_EQ(settings.swing.rule, gait::FootholdRule::kPaper);
   const double limit = settings.recovery.walkingPushForce;
   ASSERT_GT(limit, 0.0);
-  LocomotionPlanner planner(m, settings, ground);
-  Eigen::VectorXd q = test::standingConfiguration(m), v = Eigen::VectorXd::Zero(m.nv);
-  Plan plan;
-  double t = 0;
-  LocomotionCommand cmd;
-  cmd.walk = true;
-  cmd.vx = 0.5;
-  const auto rule = [&] { return plan.swings.parameters().rule; };
-  run(planner, cmd, 1.5, q, v, plan, t);
+  Walk walk(*this, 0.5);
+  const auto rule = [&] { return walk.plan.swings.parameters().rule; };
+  walk.run(1.5);
   EXPECT_EQ(rule(), gait::FootholdRule::kPaper);
-  planner.setExternalForce(Eigen::Vector3d(0.0, 0.9 * limit, 0.0));
-  run(planner, cmd, 0.3, q, v, plan, t);
+  walk.planner.setExternalForce(Eigen::Vector3d(0.0, 0.9 * limit, 0.0));
+  walk.run(0.3);
   EXPECT_EQ(rule(), gait::FootholdRule::kPaper) << "a push under the limit";
-  planner.setExternalForce(Eigen::Vector3d(1.1 * limit, 0.0, 0.0));
-  run(planner, cmd, 0.02, q, v, plan, t);
+  walk.planner.setExternalForce(Eigen::Vector3d(1.1 * limit, 0.0, 0.0));
+  walk.run(0.02);
   EXPECT_EQ(rule(), gait::FootholdRule::kCapturePoint) << "the push";
-  planner.setExternalForce(Eigen::Vector3d(0.4 * limit, 0.0, 0.0));
-  const double pushEnd = t;
+  walk.planner.setExternalForce(Eigen::Vector3d(0.4 * limit, 0.0, 0.0));
+  const double pushEnd = walk.t;
   const double period = settings.walkGait.period;
   double handedBack = -1.0;
-  for (; t < pushEnd + 3.0 * period && handedBack < 0.0 && !HasFailure();) {
-    run(planner, cmd, 0.01, q, v, plan, t);
-    if (rule() == gait::FootholdRule::kPaper) handedBack = t - 0.01;  // the update's time
+  while (walk.t < pushEnd + 3.0 * period && handedBack < 0.0 && !HasFailure()) {
+    walk.run(0.01);
+    if (rule() == gait::FootholdRule::kPaper) handedBack = walk.t - 0.01;  // the update's time
   }
   ASSERT_GT(handedBack, 0.0) << "still on the capture point's footholds";
   EXPECT_GE(handedBack, pushEnd + period);
   EXPECT_LE(handedBack, pushEnd + 1.5 * period + 0.011);
-  EXPECT_EQ(gait::numStance(plan.schedule.flagsAt(handedBack)), kNumContacts)
+  EXPECT_EQ(gait::numStance(walk.plan.schedule.flagsAt(handedBack)), kNumContacts)
       << "handed back in a swing";
 }
 
@@ -325,19 +335,13 @@ TEST_F(Locomotion, APushWalkingTakesTheBaseReferenceWhereThePushTookTheBody) {
   // The plan's base y at its last node relative to its first, the whole robot moved `off`
   // along +y after 1.5 s of walking, with a push along x (the footholds' switch) or none.
   const auto drift = [&](double push, double off) {
-    LocomotionPlanner planner(m, settings, ground);
-    Eigen::VectorXd q = test::standingConfiguration(m), v = Eigen::VectorXd::Zero(m.nv);
-    Plan plan;
-    double t = 0;
-    LocomotionCommand cmd;
-    cmd.walk = true;
-    cmd.vx = 0.5;
-    run(planner, cmd, 1.5, q, v, plan, t);
-    planner.setExternalForce(Eigen::Vector3d(push, 0.0, 0.0));
-    run(planner, cmd, 0.02, q, v, plan, t);
-    q[1] += off;
-    run(planner, cmd, 0.01, q, v, plan, t);
-    return plan.x[plan.nodes][y] - plan.x[0][y];
+    Walk walk(*this, 0.5);
+    walk.run(1.5);
+    walk.planner.setExternalForce(Eigen::Vector3d(push, 0.0, 0.0));
+    walk.run(0.02);
+    walk.q[1] += off;
+    walk.run(0.01);
+    return walk.plan.x[walk.plan.nodes][y] - walk.plan.x[0][y];
   };
   const double pushed = drift(1.1 * limit, 2.0 * lead);
   const double unpushed = drift(0.0, 2.0 * lead);
