@@ -198,6 +198,8 @@ class Server {
   /// Queues a command in the loop's ring and notes it pending (false: the ring is full).
   Pending* enqueue(control::OperatorCommand& command);
   void onLoopReplies();
+  /// Writes the loop's events (log lines) that wait in its ring to the log.
+  void logLoopEvents();
   void expirePending();
 
   // watch.cpp: status now and as a stream

@@ -427,6 +427,9 @@ void Server::fail(int client, const json& id, const char* code, const std::strin
 }
 
 void Server::send(Client& c, const std::string& text) {
+  // The log is never behind an answer: the loop pushed its events before it published the
+  // state an answer shows, so a client that reads a mode or a flag finds its log line written.
+  logLoopEvents();
   if (c.out.size() > kMaxBacklog) {
     spdlog::warn("client fd {} (uid {}) reads nothing back: disconnected", c.fd, c.uid);
     drop(c.fd);

@@ -168,9 +168,7 @@ void Server::submit(Client& c, const Request& r, control::OperatorCommand comman
   p->cmd = r.command.name;
 }
 
-void Server::onLoopReplies() {
-  std::uint64_t count;
-  [[maybe_unused]] const ssize_t n = ::read(ctx_.loop->wakeFd(), &count, sizeof(count));
+void Server::logLoopEvents() {
   control::LoopEvent e;
   while (ctx_.loop->popEvent(e)) {
     if (e.warning)
@@ -178,6 +176,12 @@ void Server::onLoopReplies() {
     else
       spdlog::info("[t={:.3f}] {}", e.t, e.message);
   }
+}
+
+void Server::onLoopReplies() {
+  std::uint64_t count;
+  [[maybe_unused]] const ssize_t n = ::read(ctx_.loop->wakeFd(), &count, sizeof(count));
+  logLoopEvents();
   control::CommandReply r;
   while (ctx_.loop->popReply(r)) {
     const auto it = pending_.find(r.sequence);
