@@ -38,9 +38,6 @@ void startWalking(DaemonStack& robot, double& t0) {
 /// 50 ms apart: 2.25 s after each push ends). No fall, still walking, and over the last gait
 /// cycle before the next push the mean forward velocity is back within 0.1 m/s of the command.
 /// The eight phases of the first half cycle stand for all sixteen (mirror cells, above).
-// Was disabled (issue 13): it fell at phase 0.60 s. With the swing feet held level and the push
-// estimate without touch-down spikes all sixteen hold again (0.43-0.44 m/s over the cycle
-// before the next push; the bound is 0.4).
 TEST(Push, FortyNewtonsForOneSecondAtEveryPhaseOfTheGait) {
   DaemonStack robot(kDefaultProfile);
   double t0 = 0.0;
@@ -65,16 +62,15 @@ TEST(Push, FortyNewtonsForOneSecondAtEveryPhaseOfTheGait) {
   }
 }
 
-/// Issue 13, a push on a hand: walking at 0.5 m/s with the push profile, 40 N for 1 s on the
+/// Issue 13, a push on a hand: walking at 0.5 m/s on the default profile, 40 N for 1 s on the
 /// left hand, sideways, eight times, alternately outwards (+y) and inwards (-y), each 0.1 s
 /// later in the 0.8 s gait cycle than the one before (3.2 s after each push ends): no fall,
 /// still walking at the end. The push acts off the centre of mass and moves the arm, but what
-/// the robot sees of it is the same estimated external force as of a push on the torso. On
-/// the default profile 14 of the 16 phase and side cells fell (ballast-push-map --body
-/// left_hand): 40 N less the estimator's 10 N deadband stays under the walking push switch
-/// (gait.recovery_walking_force 40 N), so the paper's footholds take it alone.
+/// the robot sees of it is the same estimated external force as of a push on the torso: 40 N
+/// less the estimator's 10 N deadband passes the walking push switch
+/// (gait.recovery_walking_force), which hands the footholds to the capture point's.
 TEST(Push, FortyNewtonsOnAHandSidewaysAtEightPhases) {
-  DaemonStack robot(std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat-push.yaml");
+  DaemonStack robot(kDefaultProfile);
   double t0 = 0.0;
   ASSERT_NO_FATAL_FAILURE(startWalking(robot, t0));
   const double period = robot.settings().locomotion.walkGait.period;
@@ -180,7 +176,7 @@ std::vector<StandingCase> standingCases() {
   for (double force : {20.0, 60.0})
     for (int k = 0; k <= 4; ++k)
       cases.push_back({force, 45.0 * k, force >= 60.0 && k % 2 == 0, false});
-  // The walking push profile standing: 60 N (with the 2 cm margin -y, +y's mirror, fell).
+  // The walking push profile standing: 60 N.
   for (int k = 0; k <= 4; ++k) cases.push_back({60.0, 45.0 * k, false, true});
   return cases;
 }
@@ -192,13 +188,10 @@ INSTANTIATE_TEST_SUITE_P(Push, StandingPush, ::testing::ValuesIn(standingCases()
 /// with the push profile (profiles/sim-flat-push.yaml: capture-point footholds, the step timing
 /// walking down to 0.5 s while a step is held to the step limits, the whole-body controller's
 /// joint limits, the MPC's pelvis roll weighted), the push starting at a phase of the gait cycle
-/// (fraction of 0.8 s), a fresh robot: no fall, still walking 4 s after the push. Without the
-/// step timing and the joint limits the push beginning late in the swing of the foot on its
-/// side fell, the single support on that foot rolling the pelvis and the swing hip driven into
-/// its roll stop; with them and the roll weighted as pitch, +y 0.875 held or fell with the
-/// last bits of the arithmetic (held on the machine of 25 Nov, fell on this one: the cell is at
-/// the edge). -y 0.25 fell with this profile until the step timing chose the longest period
-/// that keeps the next two steps within reach (README, Pushes).
+/// (fraction of 0.8 s), a fresh robot: no fall, still walking 4 s after the push. The step
+/// timing and the joint limits are there for a push beginning late in the swing of the foot on
+/// its side: the single support on that foot rolls the pelvis and drives the swing hip into its
+/// roll stop (README, Pushes).
 class WalkingSidewaysPush : public ::testing::TestWithParam<std::tuple<double, double>> {};
 
 TEST_P(WalkingSidewaysPush, SixtyNewtonsForOneSecond) {
