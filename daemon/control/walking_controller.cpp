@@ -37,6 +37,7 @@ wbc::WbcStatus WalkingController::compute(const ControllerInput& in, ControllerO
   sampler_.sample(plan, in.t, now_);
   sampler_.sample(plan, in.t + kLookAhead, ahead_);
   planToWbcReference(now_, ahead_, kLookAhead, model_.nj(), reference_);
+  reference_.pushStep = plan.pushStepping || plan.recovering;
   toModelState(model_, in.state, state_.q, state_.v);
   const wbc::WbcStatus status = wbc_->update(state_, reference_, output_);
   const double kp = settings_->wbc_motor_kp, kd = settings_->wbc_motor_kd;

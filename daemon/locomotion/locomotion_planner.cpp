@@ -330,6 +330,7 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
   plan.swings = swings_;
   plan.walking = command.walk;
   plan.recovering = recoveryActive_ && !operatorCommand.walk;
+  plan.pushStepping = pushStepping_ && operatorCommand.walk;
   for (int c = 0; c < kNumContacts; ++c) {
     const Eigen::Vector3d& p = gaitState.contactPositions[c];
     const gait::SwingTrajectory* swing = swings_.swingAt(c, t);

@@ -197,6 +197,7 @@ const Schema<Settings> kTable({
   number("wbc.joint_kd", "40", 0, 1e4, "1/s", "priority 2: joint-space tracking damping").into<&S::control, &C::wbc, &W::jointKd>(),
   numbers("wbc.base_kp", "[400, 400, 400, 400, 400, 400]", 0, 1e5, "1/s^2", "priority 3: base tracking stiffness, [x y z position; x y z orientation] (world)").ofLength(6).into<&S::control, &C::wbc, &W::baseKp>(),
   numbers("wbc.base_kd", "[40, 40, 40, 40, 40, 40]", 0, 1e4, "1/s", "priority 3: base tracking damping, [x y z linear; x y z angular] (world)").ofLength(6).into<&S::control, &C::wbc, &W::baseKd>(),
+  flag("wbc.push_base_first", "true", "priority 3 above priority 2 while the plan steps out a push (the capture point's footholds: gait.recovery_walking_force walking, a standing recovery; hierarchical variant): a push's long, quick swing then falls short of its path instead of taking its acceleration from the base through the stance leg, which launched the robot; false: the paper's order always").into<&S::control, &C::wbc, &W::pushBaseFirst>(),
   number("wbc.friction_coefficient", "0.6", 0.01, 10, "", "priority 1: friction pyramid coefficient").into<&S::control, &C::wbc, &W::frictionCoefficient>(),
   number("wbc.torque_limit_scale", "1", 0.1, 1, "", "priority 1: fraction of the URDF effort limits the controller may command").into<&S::joints, &J::torque_limit_scale>(),
   number("wbc.limb_weight", "100", 0, 1e9, "", "weighted and inverse_dynamics variants: weight of the limb tasks").into<&S::control, &C::wbc, &W::limbWeight>(),

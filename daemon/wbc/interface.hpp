@@ -44,6 +44,9 @@ struct WbcReference {
   Eigen::Vector3d baseAngularAcceleration = Eigen::Vector3d::Zero();
   /// Contact force references, world frame, 3 × nc stacked (force on the robot).
   Eigen::VectorXd contactForce;
+  /// The plan is stepping out a push (the capture point's footholds, walking or standing): with
+  /// WbcSettings::pushBaseFirst the base task goes above the limb tasks.
+  bool pushStep = false;
 };
 
 enum class WbcStatus : std::uint8_t {

@@ -55,6 +55,9 @@ struct WbcSettings {
   // Priority 3: base motion tracking, [position (world x, y, z); orientation (world axes)].
   std::array<double, 6> baseKp;
   std::array<double, 6> baseKd;
+  /// While the plan steps out a push (WbcReference::pushStep), the base task goes above the limb
+  /// tasks (hierarchical variant): see whole_body_controller.hpp. False: the paper's order always.
+  bool pushBaseFirst = true;
 
   // Priority 1: friction pyramid (C_fr of the paper, normal = world z) and torque limits.
   double frictionCoefficient;

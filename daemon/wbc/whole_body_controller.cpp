@@ -127,6 +127,7 @@ void WholeBodyController::resolve(const WbcSettings& s) {
   settings_.jointKd = s.jointKd;
   settings_.baseKp = s.baseKp;
   settings_.baseKd = s.baseKd;
+  settings_.pushBaseFirst = s.pushBaseFirst;
   settings_.frictionCoefficient = s.frictionCoefficient;
   settings_.jointLimits = s.jointLimits;
   settings_.limbWeight = s.limbWeight;
@@ -318,115 +319,132 @@ void WholeBodyController::buildTasks(const WbcState& state, const WbcReference& 
       ++row;
     }
   }
-  // 2: limbs: swing contact points in the world, joint-space joints.
-  tasks_.beginLevel();
-  {
-    int swingCount = 0;
-    for (int i = 0; i < nc_; ++i) swingCount += ref.stance[i] ? 0 : 1;
-    int swingFeet = 0;
-    for (const auto& [i, k] : footPairs_)
-      swingFeet += settings_.levelSwingFeet && !ref.stance[i] && !ref.stance[k];
-    // A swinging foot whose yaw is the base's: its middle and pitch, 4 rows for its 6.
-    std::array<bool, 2 * kMaxFeet> combined{};
-    int combinedFeet = 0;
-    for (const auto& [i, k] : footPairs_)
-      if (settings_.feetFollowBaseYaw && !ref.stance[i] && !ref.stance[k] && i < 2 * kMaxFeet &&
-          k < 2 * kMaxFeet) {
-        combined[i] = combined[k] = true;
-        ++combinedFeet;
-      }
-    const int nJoint = static_cast<int>(jointSpaceJoints_.size());
-    auto rows = tasks_.addEqualities(3 * swingCount - 2 * combinedFeet + swingFeet + nJoint);
-    int row = 0;
-    auto target = [&](int i) -> Eigen::Vector3d {
-      return ref.contactAcceleration.col(i) +
-             settings_.swingKp * (ref.contactPosition.col(i) - contactPosition_.col(i)) +
-             settings_.swingKd * (ref.contactVelocity.col(i) - contactVelocity_.col(i)) -
-             contactBias_.segment<3>(3 * i);
-    };
-    for (int i = 0; i < nc_; ++i) {
-      if (ref.stance[i] || (i < 2 * kMaxFeet && combined[i])) continue;
-      rows.A.block(row, 0, 3, nv_) = Jc_.middleRows(3 * i, 3);
-      rows.b.segment<3>(row) = target(i);
-      row += 3;
-    }
-    for (const auto& [i, k] : footPairs_) {
-      if (i >= 2 * kMaxFeet || !combined[i]) continue;
-      pointRows_.topRows<3>() = Jc_.middleRows(3 * i, 3);
-      pointRows_.bottomRows<3>() = Jc_.middleRows(3 * k, 3);
-      pointTargets_ << target(i), target(k);
-      rows.A.block(row, 0, 3, nv_) = 0.5 * (pointRows_.topRows<3>() + pointRows_.bottomRows<3>());
-      rows.b.segment<3>(row) = 0.5 * (pointTargets_.head<3>() + pointTargets_.tail<3>());
-      rows.A.block(row + 3, 0, 1, nv_) = pointRows_.row(2) - pointRows_.row(5);
-      rows.b[row + 3] = pointTargets_[2] - pointTargets_[5];
-      row += 4;
-    }
-    // A swinging foot's roll about the line through its two points, which those points' paths
-    // leave free: held level (its sideways axis horizontal), so that the foot lands flat. Left
-    // free, the least-squares answer rolls the foot with the hip, and a wide sideways step (a
-    // push's) landed on the sole's edge rolled 0.6 rad.
-    for (const auto& [i, k] : footPairs_) {
-      if (!settings_.levelSwingFeet || ref.stance[i] || ref.stance[k]) continue;
-      const Eigen::Vector3d line = contactPosition_.col(i) - contactPosition_.col(k);
-      const Eigen::Vector3d axis = line / std::max(line.norm(), 1e-9);
-      const Eigen::Vector3d side = Eigen::Vector3d::UnitZ().cross(axis);  // horizontal, ⟂ axis
-      rows.A.row(row).setZero();
-      rows.b[row] = 0.0;
-      if (line.norm() > 1e-6 && side.norm() > 1e-6) {  // else a foot on end: nothing to level
-        // The tilt about the axis: how far the sole's sideways direction is out of the horizontal.
-        // That direction is the frame axis nearest the horizontal side, whichever it is and
-        // whatever its sign (a vendor's foot link may have y along the leg, or mirrored).
-        const Eigen::Matrix3d R = model::framePlacement(model_, data_, contactFrames_[i]).R;
-        const Eigen::Vector3d sideHat = side / side.norm();
-        Eigen::Vector3d lateral = Eigen::Vector3d::Zero();
-        for (int c = 0; c < 3; ++c) {
-          const Eigen::Vector3d across = R.col(c) - R.col(c).dot(axis) * axis;
-          if (std::abs(across.dot(sideHat)) > std::abs(lateral.dot(sideHat))) lateral = across;
+  // 2 and 3: limbs, then the base; the other way round while a push is stepped out
+  // (WbcSettings::pushBaseFirst, the header comment).
+  const bool baseFirst = settings_.pushBaseFirst && ref.pushStep &&
+                         settings_.variant == WbcVariant::kHierarchical;
+  limbsLevel_ = baseFirst ? kLevelBase : kLevelLimbs;
+  baseLevel_ = baseFirst ? kLevelLimbs : kLevelBase;
+  auto limbs = [&] {
+    // 2: limbs: swing contact points in the world, joint-space joints.
+    tasks_.beginLevel();
+    {
+      int swingCount = 0;
+      for (int i = 0; i < nc_; ++i) swingCount += ref.stance[i] ? 0 : 1;
+      int swingFeet = 0;
+      for (const auto& [i, k] : footPairs_)
+        swingFeet += settings_.levelSwingFeet && !ref.stance[i] && !ref.stance[k];
+      // A swinging foot whose yaw is the base's: its middle and pitch, 4 rows for its 6.
+      std::array<bool, 2 * kMaxFeet> combined{};
+      int combinedFeet = 0;
+      for (const auto& [i, k] : footPairs_)
+        if (settings_.feetFollowBaseYaw && !ref.stance[i] && !ref.stance[k] && i < 2 * kMaxFeet &&
+            k < 2 * kMaxFeet) {
+          combined[i] = combined[k] = true;
+          ++combinedFeet;
         }
-        // |lateral · sideHat| >= 1/sqrt(3): some column of a rotation leans that far on any unit vector.
-        const double tilt = std::atan(lateral.z() / lateral.dot(sideHat));
-        const auto velocity = model::frameVelocity(model_, data_, contactFrames_[i]);
-        model::frameJacobian(model_, data_, contactFrames_[i], Jframe_);
-        rows.A.block(row, 0, 1, nv_).noalias() = axis.transpose() * Jframe_.bottomRows<3>();
-        rows.b[row] =
-            -settings_.swingKp * tilt - settings_.swingKd * axis.dot(velocity.angular) -
-            axis.dot(model::frameClassicalAcceleration(model_, data_, contactFrames_[i]).angular);
+      const int nJoint = static_cast<int>(jointSpaceJoints_.size());
+      auto rows = tasks_.addEqualities(3 * swingCount - 2 * combinedFeet + swingFeet + nJoint);
+      int row = 0;
+      auto target = [&](int i) -> Eigen::Vector3d {
+        return ref.contactAcceleration.col(i) +
+               settings_.swingKp * (ref.contactPosition.col(i) - contactPosition_.col(i)) +
+               settings_.swingKd * (ref.contactVelocity.col(i) - contactVelocity_.col(i)) -
+               contactBias_.segment<3>(3 * i);
+      };
+      for (int i = 0; i < nc_; ++i) {
+        if (ref.stance[i] || (i < 2 * kMaxFeet && combined[i])) continue;
+        rows.A.block(row, 0, 3, nv_) = Jc_.middleRows(3 * i, 3);
+        rows.b.segment<3>(row) = target(i);
+        row += 3;
       }
-      ++row;
+      for (const auto& [i, k] : footPairs_) {
+        if (i >= 2 * kMaxFeet || !combined[i]) continue;
+        pointRows_.topRows<3>() = Jc_.middleRows(3 * i, 3);
+        pointRows_.bottomRows<3>() = Jc_.middleRows(3 * k, 3);
+        pointTargets_ << target(i), target(k);
+        rows.A.block(row, 0, 3, nv_) = 0.5 * (pointRows_.topRows<3>() + pointRows_.bottomRows<3>());
+        rows.b.segment<3>(row) = 0.5 * (pointTargets_.head<3>() + pointTargets_.tail<3>());
+        rows.A.block(row + 3, 0, 1, nv_) = pointRows_.row(2) - pointRows_.row(5);
+        rows.b[row + 3] = pointTargets_[2] - pointTargets_[5];
+        row += 4;
+      }
+      // A swinging foot's roll about the line through its two points, which those points' paths
+      // leave free: held level (its sideways axis horizontal), so that the foot lands flat. Left
+      // free, the least-squares answer rolls the foot with the hip, and a wide sideways step (a
+      // push's) landed on the sole's edge rolled 0.6 rad.
+      for (const auto& [i, k] : footPairs_) {
+        if (!settings_.levelSwingFeet || ref.stance[i] || ref.stance[k]) continue;
+        const Eigen::Vector3d line = contactPosition_.col(i) - contactPosition_.col(k);
+        const Eigen::Vector3d axis = line / std::max(line.norm(), 1e-9);
+        const Eigen::Vector3d side = Eigen::Vector3d::UnitZ().cross(axis);  // horizontal, ⟂ axis
+        rows.A.row(row).setZero();
+        rows.b[row] = 0.0;
+        if (line.norm() > 1e-6 && side.norm() > 1e-6) {  // else a foot on end: nothing to level
+          // The tilt about the axis: how far the sole's sideways direction is out of the horizontal.
+          // That direction is the frame axis nearest the horizontal side, whichever it is and
+          // whatever its sign (a vendor's foot link may have y along the leg, or mirrored).
+          const Eigen::Matrix3d R = model::framePlacement(model_, data_, contactFrames_[i]).R;
+          const Eigen::Vector3d sideHat = side / side.norm();
+          Eigen::Vector3d lateral = Eigen::Vector3d::Zero();
+          for (int c = 0; c < 3; ++c) {
+            const Eigen::Vector3d across = R.col(c) - R.col(c).dot(axis) * axis;
+            if (std::abs(across.dot(sideHat)) > std::abs(lateral.dot(sideHat))) lateral = across;
+          }
+          // |lateral · sideHat| >= 1/sqrt(3): some column of a rotation leans that far on any unit vector.
+          const double tilt = std::atan(lateral.z() / lateral.dot(sideHat));
+          const auto velocity = model::frameVelocity(model_, data_, contactFrames_[i]);
+          model::frameJacobian(model_, data_, contactFrames_[i], Jframe_);
+          rows.A.block(row, 0, 1, nv_).noalias() = axis.transpose() * Jframe_.bottomRows<3>();
+          rows.b[row] =
+              -settings_.swingKp * tilt - settings_.swingKd * axis.dot(velocity.angular) -
+              axis.dot(model::frameClassicalAcceleration(model_, data_, contactFrames_[i]).angular);
+        }
+        ++row;
+      }
+      // Inverse dynamics (cI) holds these joints where the plan puts them: its plan has no limb
+      // motion to feed forward.
+      const bool held = settings_.variant == WbcVariant::kInverseDynamics;
+      for (int j : jointSpaceJoints_) {
+        rows.A(row, model::Model::vIndexOfJoint(j)) = 1.0;
+        const double referenceVelocity = held ? 0.0 : ref.jointVelocity[j];
+        rows.b[row] = (held ? 0.0 : ref.jointAcceleration[j]) +
+                      settings_.jointKp * (ref.jointPosition[j] - q_[model::Model::qIndexOfJoint(j)]) +
+                      settings_.jointKd * (referenceVelocity - state.v[model::Model::vIndexOfJoint(j)]);
+        ++row;
+      }
     }
-    // Inverse dynamics (cI) holds these joints where the plan puts them: its plan has no limb
-    // motion to feed forward.
-    const bool held = settings_.variant == WbcVariant::kInverseDynamics;
-    for (int j : jointSpaceJoints_) {
-      rows.A(row, model::Model::vIndexOfJoint(j)) = 1.0;
-      const double referenceVelocity = held ? 0.0 : ref.jointVelocity[j];
-      rows.b[row] = (held ? 0.0 : ref.jointAcceleration[j]) +
-                    settings_.jointKp * (ref.jointPosition[j] - q_[model::Model::qIndexOfJoint(j)]) +
-                    settings_.jointKd * (referenceVelocity - state.v[model::Model::vIndexOfJoint(j)]);
-      ++row;
+  };
+  auto base = [&] {
+    // 3: base pose and twist.
+    tasks_.beginLevel();
+    {
+      // Without the yaw row when the feet cannot yaw (the header): it is the last one.
+      auto rows = tasks_.addEqualities(settings_.feetFollowBaseYaw ? 5 : 6);
+      rows.A.leftCols(nv_) = Jb_.topRows(settings_.feetFollowBaseYaw ? 5 : 6);
+      const Eigen::Matrix3d Rerr = ref.baseOrientation.normalized().toRotationMatrix() *
+                                   baseRotation_.transpose();
+      const Eigen::AngleAxisd aa(Rerr);
+      const Eigen::Vector3d orientationError = aa.angle() * aa.axis();
+      const Eigen::Vector3d positionError = ref.basePosition - basePosition_;
+      const auto& kp = settings_.baseKp;
+      const auto& kd = settings_.baseKd;
+      for (int a = 0; a < 3; ++a) {
+        rows.b[a] = ref.baseLinearAcceleration[a] + kp[a] * positionError[a] +
+                    kd[a] * (ref.baseLinearVelocity[a] - baseVelocity_[a]) - baseBias_[a];
+        if (3 + a >= rows.b.size()) break;
+        rows.b[3 + a] = ref.baseAngularAcceleration[a] + kp[3 + a] * orientationError[a] +
+                        kd[3 + a] * (ref.baseAngularVelocity[a] - baseVelocity_[3 + a]) -
+                        baseBias_[3 + a];
+      }
     }
-  }
-  // 3: base pose and twist.
-  tasks_.beginLevel();
-  {
-    // Without the yaw row when the feet cannot yaw (the header): it is the last one.
-    auto rows = tasks_.addEqualities(settings_.feetFollowBaseYaw ? 5 : 6);
-    rows.A.leftCols(nv_) = Jb_.topRows(settings_.feetFollowBaseYaw ? 5 : 6);
-    const Eigen::Matrix3d Rerr = ref.baseOrientation.normalized().toRotationMatrix() *
-                                 baseRotation_.transpose();
-    const Eigen::AngleAxisd aa(Rerr);
-    const Eigen::Vector3d orientationError = aa.angle() * aa.axis();
-    const Eigen::Vector3d positionError = ref.basePosition - basePosition_;
-    const auto& kp = settings_.baseKp;
-    const auto& kd = settings_.baseKd;
-    for (int a = 0; a < 3; ++a) {
-      rows.b[a] = ref.baseLinearAcceleration[a] + kp[a] * positionError[a] +
-                  kd[a] * (ref.baseLinearVelocity[a] - baseVelocity_[a]) - baseBias_[a];
-      if (3 + a >= rows.b.size()) break;
-      rows.b[3 + a] = ref.baseAngularAcceleration[a] + kp[3 + a] * orientationError[a] +
-                      kd[3 + a] * (ref.baseAngularVelocity[a] - baseVelocity_[3 + a]) -
-                      baseBias_[3 + a];
-    }
+  };
+  if (baseFirst) {
+    base();
+    limbs();
+  } else {
+    limbs();
+    base();
   }
   // 4: contact forces.
   tasks_.beginLevel();
@@ -532,8 +550,8 @@ WbcStatus WholeBodyController::update(const WbcState& state, const WbcReference&
   out.jointPositionTarget = qj + (T / 2.0) * vj + (T * T / 6.0) * vdot.tail(nj_);
 
   out.taskError[kPhysics] = tasks_.residual(kLevelPhysics, xi_);
-  out.taskError[kLimbs] = tasks_.residual(kLevelLimbs, xi_);
-  out.taskError[kBase] = tasks_.residual(kLevelBase, xi_);
+  out.taskError[kLimbs] = tasks_.residual(limbsLevel_, xi_);
+  out.taskError[kBase] = tasks_.residual(baseLevel_, xi_);
   out.taskError[kContactForces] = tasks_.residual(kLevelContactForces, xi_);
   out.slackNorm = hqp_.slack().norm();
   out.iterations = hqp_.totalIterations();

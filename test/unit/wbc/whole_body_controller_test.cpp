@@ -200,6 +200,52 @@ TEST(Wbc, LimbsOverBaseWhenTheyConflict) {
   }
 }
 
+TEST(Wbc, APushStepPutsTheBaseAboveTheLimbs) {
+  // LimbsOverBaseWhenTheyConflict's conflict, the plan stepping out a push (issue 13): the base
+  // task goes above the limbs (WbcSettings::pushBaseFirst), so the base is met as far as the
+  // physics allows and the limbs only in what is left; with pushBaseFirst off, the paper's order.
+  // A push's quick swing at its hip's torque limit took the rest of its acceleration from the
+  // base through the stance leg: 2100 N under a plan of 960 N, and the robot left the ground.
+  const model::Model& m = humanoid();
+  WbcSettings settings = wbcSettings();
+  settings.torqueLimit.assign(m.nj(), 5000.0);
+  settings.levelSwingFeet = false;
+  WholeBodyController wbc(m, settings);
+  settings.pushBaseFirst = false;
+  WholeBodyController paper(m, settings);
+  WbcReference ref = wbc.makeReference();
+  ref.stance = {false, false, false, false};
+  ref.pushStep = true;
+  std::mt19937 rng(3);
+  WbcOutput out = wbc.makeOutput(), outPaper = paper.makeOutput();
+  for (int trial = 0; trial < 10; ++trial) {
+    const ConsistentMotion c = consistentMotion(m, contactFrameIds(m, settings), ref.stance, rng);
+    consistentReferences(m, wbc, c, ref);
+    ref.baseAngularAcceleration += Eigen::Vector3d(3.0, -1.0, 0.5);  // the conflicting demand
+    ref.basePosition += Eigen::Vector3d(0.0, 0.02, -0.01);
+    const WbcState state = stateOf(c);
+    ASSERT_EQ(wbc.update(state, ref, out), WbcStatus::kOk) << "trial " << trial;
+    const TaskStack& t = wbc.tasks();
+    ASSERT_EQ(wbc.baseLevel(), kLevelLimbs);
+    ASSERT_EQ(wbc.limbsLevel(), kLevelBase);
+    const double base = bestResidualBelow(t, wbc.baseLevel(), {kLevelPhysics});
+    const double limbs = bestResidualBelow(t, wbc.limbsLevel(), {kLevelPhysics, wbc.baseLevel()});
+    EXPECT_NEAR(out.taskError[kBase], base, 1e-6 * std::max(base, 1.0)) << "trial " << trial;
+    EXPECT_NEAR(out.taskError[kLimbs], limbs, 1e-6 * std::max(limbs, 1.0)) << "trial " << trial;
+    expectPhysicallyConsistent(m, wbc, state, ref, out);
+
+    ASSERT_EQ(paper.update(state, ref, outPaper), WbcStatus::kOk) << "trial " << trial;
+    EXPECT_EQ(paper.baseLevel(), kLevelBase);
+    EXPECT_LT(outPaper.taskError[kLimbs], 1e-7) << "trial " << trial;
+    EXPECT_GT(outPaper.taskError[kBase], 2.0 * out.taskError[kBase] + 0.25) << "trial " << trial;
+    EXPECT_GT(out.taskError[kLimbs], 0.1) << "the limbs give way to the base";
+  }
+  // Undisturbed walking keeps the paper's order.
+  ASSERT_NE(wbc.update(wbc.makeState(), wbc.makeReference(), out), WbcStatus::kInvalidInput);
+  EXPECT_EQ(wbc.baseLevel(), kLevelBase);
+  EXPECT_EQ(wbc.limbsLevel(), kLevelLimbs);
+}
+
 TEST(Wbc, InverseDynamicsIsTheWeightedQpWithTheArmsHeld) {
   // cI's tracking: the weighted QP, its joint-space joints asked back to their reference
   // positions with no reference velocity or acceleration (its plan's limbs do not move).
