@@ -39,9 +39,7 @@
 // the base — the stance leg, its knee at its own limit, put 2100 N under a plan of 960 N, the
 // pelvis went up at 27 m/s² and the robot left the ground at the next touch-down (issue 13's
 // "jump at a touch-down"). With the base above, the swing foot falls short of its path instead
-// and lands later. Walking at 1 m/s, 60 N along x and y survived 10 of 16 phases instead of 4,
-// the 60 N map at 0.5 m/s and 90 N along x unchanged (30 of 32, 2 of 8). Undisturbed walking
-// keeps the paper's order.
+// and lands later. Undisturbed walking keeps the paper's order.
 // Priority 1 is split in two levels so the physics equalities are never traded for slack when
 // the limits cannot be met (with feasible limits the answer is the same as one level).
 // The weighted variant (cNH) keeps levels 0 and 1 and solves levels 2–4 as one least-squares

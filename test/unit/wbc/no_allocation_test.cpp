@@ -57,6 +57,12 @@ TEST(WbcNoAllocation, ControllerTicks) {
         EXPECT_EQ(allocationsIn([&] { wbc.update(state, ref, out); }), 0) << toString(variant);
         qpSolves += out.qpSolves;
         EXPECT_EQ(allocationsIn([&] { starved.update(state, ref, out); }), 0) << toString(variant);
+        // A push stepped out puts the base above the limbs (levels 2 and 3 of other sizes) and
+        // back: neither change allocates.
+        ref.pushStep = true;
+        EXPECT_EQ(allocationsIn([&] { wbc.update(state, ref, out); }), 0) << toString(variant);
+        ref.pushStep = false;
+        EXPECT_EQ(allocationsIn([&] { wbc.update(state, ref, out); }), 0) << toString(variant);
         WbcState bad = state;
         bad.v[3] = std::nan("");
         EXPECT_EQ(allocationsIn([&] { wbc.update(bad, ref, out); }), 0);
