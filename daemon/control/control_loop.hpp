@@ -175,6 +175,8 @@ class ControlLoop {
   std::array<bool, kNumContacts> scheduled_{true, true, true, true};
   bool planning_ = false;  // inputs are being posted (stand, walk)
   std::uint64_t first_sequence_ = 0;  // of the input that restarted planning
+  double restart_t_ = 0.0;            // controller time of that input
+  int warm_plans_ = 0;                // valid plans since then (the first ones are cold solves)
   std::uint64_t failed_sequence_ = 0;  // of the last answer without a valid plan
   std::uint64_t planner_failures_ = 0, position_fixes_ = 0;
   int planner_streak_ = 0;  // failed answers since the last valid plan
