@@ -167,27 +167,39 @@ double bestResidualBelow(const TaskStack& t, int level, const std::vector<int>& 
   return (A3 * (x0 + N * z) - b3).norm();
 }
 
-TEST(Wbc, LimbsOverBaseWhenTheyConflict) {
-  // In flight (no contact point in stance) the base moves only through the reaction of the limbs.
-  // Limb references (swing feet, arms) consistent with one motion, base references asking for
-  // another: level 2 (limbs) must be met, level 3 (base) only as far as the remaining freedom
-  // allows. Large limits keep the inequalities inactive so that equality algebra, by an
-  // independent SVD, gives the best achievable base residual.
-  const model::Model& m = humanoid();
+// In flight (no contact point in stance) the base moves only through the reaction of the limbs:
+// settings with limits large enough to keep the inequalities inactive, and, per trial, limb
+// references consistent with one motion and base references asking for another. The conflict
+// both priority orders are tested on.
+WbcSettings inFlightSettings(const model::Model& m) {
   WbcSettings settings = wbcSettings();
   settings.torqueLimit.assign(m.nj(), 5000.0);
   settings.levelSwingFeet = false;  // as in ConsistentReferencesAreMetAtEveryLevel
+  return settings;
+}
+
+WbcState inFlightConflict(const model::Model& m, const WbcSettings& settings,
+                          const WholeBodyController& wbc, std::mt19937& rng, WbcReference& ref) {
+  ref.stance = {false, false, false, false};
+  const ConsistentMotion c = consistentMotion(m, contactFrameIds(m, settings), ref.stance, rng);
+  consistentReferences(m, wbc, c, ref);
+  ref.baseAngularAcceleration += Eigen::Vector3d(3.0, -1.0, 0.5);  // the conflicting demand
+  ref.basePosition += Eigen::Vector3d(0.0, 0.02, -0.01);
+  return stateOf(c);
+}
+
+TEST(Wbc, LimbsOverBaseWhenTheyConflict) {
+  // The in-flight conflict (inFlightConflict): level 2 (limbs) must be met, level 3 (base) only
+  // as far as the remaining freedom allows. Equality algebra, by an independent SVD, gives the
+  // best achievable base residual.
+  const model::Model& m = humanoid();
+  const WbcSettings settings = inFlightSettings(m);
   WholeBodyController wbc(m, settings);
   WbcReference ref = wbc.makeReference();
-  ref.stance = {false, false, false, false};
   std::mt19937 rng(3);
   WbcOutput out = wbc.makeOutput();
   for (int trial = 0; trial < 10; ++trial) {
-    const ConsistentMotion c = consistentMotion(m, contactFrameIds(m, settings), ref.stance, rng);
-    consistentReferences(m, wbc, c, ref);
-    ref.baseAngularAcceleration += Eigen::Vector3d(3.0, -1.0, 0.5);  // the conflicting demand
-    ref.basePosition += Eigen::Vector3d(0.0, 0.02, -0.01);
-    const WbcState state = stateOf(c);
+    const WbcState state = inFlightConflict(m, settings, wbc, rng, ref);
     ASSERT_EQ(wbc.update(state, ref, out), WbcStatus::kOk) << "trial " << trial;
     const TaskStack& t = wbc.tasks();
     EXPECT_LT(out.taskError[kLimbs], 1e-7) << "trial " << trial;
@@ -207,23 +219,16 @@ TEST(Wbc, APushStepPutsTheBaseAboveTheLimbs) {
   // A push's quick swing at its hip's torque limit took the rest of its acceleration from the
   // base through the stance leg: 2100 N under a plan of 960 N, and the robot left the ground.
   const model::Model& m = humanoid();
-  WbcSettings settings = wbcSettings();
-  settings.torqueLimit.assign(m.nj(), 5000.0);
-  settings.levelSwingFeet = false;
+  WbcSettings settings = inFlightSettings(m);
   WholeBodyController wbc(m, settings);
   settings.pushBaseFirst = false;
   WholeBodyController paper(m, settings);
   WbcReference ref = wbc.makeReference();
-  ref.stance = {false, false, false, false};
   ref.pushStep = true;
   std::mt19937 rng(3);
   WbcOutput out = wbc.makeOutput(), outPaper = paper.makeOutput();
   for (int trial = 0; trial < 10; ++trial) {
-    const ConsistentMotion c = consistentMotion(m, contactFrameIds(m, settings), ref.stance, rng);
-    consistentReferences(m, wbc, c, ref);
-    ref.baseAngularAcceleration += Eigen::Vector3d(3.0, -1.0, 0.5);  // the conflicting demand
-    ref.basePosition += Eigen::Vector3d(0.0, 0.02, -0.01);
-    const WbcState state = stateOf(c);
+    const WbcState state = inFlightConflict(m, settings, wbc, rng, ref);
     ASSERT_EQ(wbc.update(state, ref, out), WbcStatus::kOk) << "trial " << trial;
     const TaskStack& t = wbc.tasks();
     ASSERT_EQ(wbc.baseLevel(), kLevelLimbs);
