@@ -3,8 +3,13 @@
 // backend on two emulated buses in lockstep, stands the simulated robot up and walks it
 // through the CLI; it knows the robot only through MIT motor replies and IMU frames.
 #include <gtest/gtest.h>
+#include <signal.h>
 
+#include <atomic>
+#include <chrono>
 #include <cmath>
+#include <optional>
+#include <thread>
 
 #include "test/integration/daemon/daemon_harness.hpp"
 #include "test/integration/socketcan/can_world.hpp"
@@ -39,6 +44,31 @@ std::string canProfile(const fs::path& dir, const std::string& section, const st
                                          "backend:\n  name: socketcan\n  socketcan:\n" + indented);
 }
 
+/// While it lives, the daemon is stopped (SIGSTOP) for `pause` of every `every` seconds of wall
+/// time: a loaded machine that does not schedule it. The world behind the buses goes on meanwhile
+/// (its thread is the test's), as its IMU would on a machine that runs it.
+class Unscheduled {
+ public:
+  Unscheduled(Daemon& daemon, double pause, double every)
+      : thread_([this, &daemon, pause, every] {
+          using namespace std::chrono;
+          while (!done_) {
+            daemon.signal(SIGSTOP);
+            std::this_thread::sleep_for(duration<double>(pause));
+            daemon.signal(SIGCONT);
+            std::this_thread::sleep_for(duration<double>(every - pause));
+          }
+        }) {}
+  ~Unscheduled() {
+    done_ = true;
+    thread_.join();
+  }
+
+ private:
+  std::atomic<bool> done_{false};
+  std::thread thread_;
+};
+
 TEST(CanPath, BallastdStandsAndWalksTheSimulatedRobotThroughCan) {
   const auto dir = scratchDir();
   EmulatedBuses buses(2);
@@ -51,6 +81,8 @@ TEST(CanPath, BallastdStandsAndWalksTheSimulatedRobotThroughCan) {
   // the test's, so the run is the same whatever the machine's load.
   Daemon d(dir, profile, {"--hold"});
   ASSERT_TRUE(d.running()) << d.log();
+  // Held lockstep waits for a daemon the machine does not run: the same run, however loaded.
+  std::optional<Unscheduled> unscheduled(std::in_place, d, 0.3, 1.0);
   ASSERT_EQ(d.cli({"advance", "2"}).status, 0) << d.log();
   ASSERT_EQ(d.status()["mode"], "stand") << d.status().dump() << d.log();
   EXPECT_EQ(d.status()["backend"], "socketcan");
@@ -60,6 +92,7 @@ TEST(CanPath, BallastdStandsAndWalksTheSimulatedRobotThroughCan) {
   ASSERT_EQ(d.status()["mode"], "walk") << d.status().dump();
   ASSERT_EQ(d.cli({"advance", "+5"}).status, 0);  // the walk's last 3 s and 2 s to settle
   ASSERT_EQ(d.status()["mode"], "stand") << d.status().dump();
+  unscheduled.reset();
   const json s = d.status();
   EXPECT_TRUE(s["faults"].empty()) << s["faults"];
   EXPECT_EQ(s["fallen"], false);

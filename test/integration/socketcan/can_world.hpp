@@ -1,8 +1,13 @@
 // The Simbody world playing the motors and the IMU behind emulated CAN buses: what ballastd's
 // CAN path drives in the end-to-end test. A thread waits until every enabled motor has its
 // command for the tick, hands them to the simulation (backend plugin, lockstep), steps it one
-// period, and answers with the motors' new states and an IMU sample; between ticks (before the
-// motors are enabled, say) the IMU keeps sending, as a real one does.
+// period, and answers with the motors' new states and an IMU sample. Until the first tick (the
+// backend's start waits for the IMU, the motors are enabled) the IMU sends on its own, as a real
+// one does; once the world ticks, its time passes only with the ticks, and so do the IMU's
+// samples: one per tick, after the step. A sample between ticks would be the state before the
+// step, and could count as the tick's (the backend waits for any sample after its write), and
+// while ballastd is not scheduled (a loaded machine) such samples filled the bus's socket until
+// the motors' replies on it were dropped (the lockstep tick then timed out and damped).
 #pragma once
 
 #include <atomic>
@@ -92,7 +97,7 @@ class CanWorld {
       bool any = false;
       for (const auto& m : emu_.motors()) any = any || m.commanded;
       if (!any || !emu_.allCommanded()) {
-        if (frames == 0) sendImu();
+        if (frames == 0 && ticks_ == 0) sendImu();
         continue;
       }
       for (std::size_t i = 0; i < simJoint_.size(); ++i) {
