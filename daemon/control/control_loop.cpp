@@ -387,7 +387,19 @@ void ControlLoop::planPost() {
   const double age = cold ? t_ - restart_t_ : t_ - plan_.t;
   const double limit = cold ? std::max(kColdStartAge, settings_->max_plan_age) : settings_->max_plan_age;
   if ((have_plan_ || cold) && age > limit) {
-    const char* reason = planner_streak_ > 0 ? planner_message_ : "the planner did not answer";
+    // Did it not answer because its solve computes that long, or because its thread does not
+    // run (blocked, or not scheduled)? Real time only: in lockstep the loop waits for it.
+    char silent[kMessageLength] = "the planner did not answer";
+    if (!options_.lockstep) {
+      const PlannerSlot::Progress p = planner_.progress();
+      if (p.solving)
+        std::snprintf(silent, sizeof(silent),
+                      "the planner did not answer: in a solve for %.1f ms, %.1f ms of it on a CPU",
+                      p.wall * 1e3, p.cpu * 1e3);
+      else
+        std::snprintf(silent, sizeof(silent), "the planner did not answer: not in a solve");
+    }
+    const char* reason = planner_streak_ > 0 ? planner_message_ : silent;
     if (cold)
       std::snprintf(message_, sizeof(message_),
                     "no valid plan %.3f s after planning started (%.3f s allowed while it starts): "

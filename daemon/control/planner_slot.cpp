@@ -93,7 +93,27 @@ void failed(PlannerOutput& out, const char* what) {
   out.exception = true;
   std::snprintf(out.message, sizeof(out.message), "exception: %s", what);
 }
+
+std::uint64_t clockNs(clockid_t clock) {
+  timespec ts;
+  if (clock_gettime(clock, &ts) != 0) return 0;
+  return static_cast<std::uint64_t>(ts.tv_sec) * 1000000000ull + static_cast<std::uint64_t>(ts.tv_nsec);
+}
 }  // namespace
+
+PlannerSlot::Progress PlannerSlot::progress() const {
+  Progress p;
+  const std::uint64_t began = solve_began_ns_.load(std::memory_order_acquire);
+  if (began == 0 || !have_cpu_clock_.load(std::memory_order_acquire)) return p;
+  const std::uint64_t cpu = clockNs(cpu_clock_), began_cpu = solve_began_cpu_ns_.load(std::memory_order_acquire);
+  const std::uint64_t now = clockNs(CLOCK_MONOTONIC);
+  // The same solve throughout (a newer one would have restamped the start)?
+  if (solve_began_ns_.load(std::memory_order_acquire) != began) return p;
+  p.solving = true;
+  p.wall = now > began ? static_cast<double>(now - began) * 1e-9 : 0.0;
+  p.cpu = cpu > began_cpu ? static_cast<double>(cpu - began_cpu) * 1e-9 : 0.0;
+  return p;
+}
 
 void PlannerSlot::run() {
   pthread_setname_np(pthread_self(), "ballast-planner");
@@ -102,6 +122,8 @@ void PlannerSlot::run() {
     param.sched_priority = priority_;
     pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);  // refused: normal priority
   }
+  if (pthread_getcpuclockid(pthread_self(), &cpu_clock_) == 0)
+    have_cpu_clock_.store(true, std::memory_order_release);
   for (;;) {
     sem_wait(&wake_);
     if (stop_) return;
@@ -110,6 +132,9 @@ void PlannerSlot::run() {
     PlannerOutput& out = output_.back();
     const auto t0 = std::chrono::steady_clock::now();
     out.exception = false;
+    if (have_cpu_clock_.load(std::memory_order_relaxed))
+      solve_began_cpu_ns_.store(clockNs(cpu_clock_), std::memory_order_relaxed);
+    solve_began_ns_.store(clockNs(CLOCK_MONOTONIC), std::memory_order_release);
     try {
       planner_->plan(in, out);
     } catch (const std::exception& e) {
@@ -117,6 +142,7 @@ void PlannerSlot::run() {
     } catch (...) {
       failed(out, "an exception of unknown type");
     }
+    solve_began_ns_.store(0, std::memory_order_release);
     out.sequence = in.sequence;
     out.solve_ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -15,6 +15,7 @@
 #pragma once
 
 #include <semaphore.h>
+#include <time.h>
 
 #include <atomic>
 #include <thread>
@@ -69,6 +70,16 @@ class PlannerSlot {
   /// for it at most timeout_s of wall time: timed_out says it did not come).
   const PlannerOutput* latest(double t, bool& timed_out, double timeout_s = kLockstepTimeout);
 
+  /// Where the planner thread is, for a fault's message (real time: a plan that does not come is
+  /// a solve that computes too long, or a thread that does not run). Any thread; system calls,
+  /// so not for every tick.
+  struct Progress {
+    bool solving = false;  ///< in plan() now
+    double wall = 0.0;     ///< s since that solve began
+    double cpu = 0.0;      ///< s of it the planner thread ran (its workers not counted)
+  };
+  Progress progress() const;
+
  private:
   void run();
 
@@ -85,6 +96,12 @@ class PlannerSlot {
   TripleBuffer<PlannerInput> input_;
   TripleBuffer<PlannerOutput> output_;
   std::atomic<std::uint64_t> answered_{0};
+  // The solve in progress (progress()): its start on the monotonic clock (0: none) and on the
+  // planner thread's CPU clock.
+  std::atomic<std::uint64_t> solve_began_ns_{0};
+  std::atomic<std::uint64_t> solve_began_cpu_ns_{0};
+  std::atomic<bool> have_cpu_clock_{false};
+  clockid_t cpu_clock_{};
   std::atomic<bool> stop_{false};
   sem_t wake_;
   sem_t answer_;  ///< posted with every answer (lockstep waits)

@@ -7,8 +7,12 @@
 // periods), so every case is exact.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <condition_variable>
+#include <cstdio>
 #include <cstring>
 #include <functional>
+#include <mutex>
 #include <random>
 #include <stdexcept>
 #include <vector>
@@ -276,6 +280,53 @@ TEST_F(DeadlinePolicy, AnExceptionInThePlannerThreadIsAFault) {
   EXPECT_EQ(status_.mode, Mode::kDamp);
   EXPECT_NE(std::strstr(f->message, "planner thread: exception: injected"), nullptr)
       << f->message;
+}
+
+/// A planner whose thread blocks in its solve, as on a lock that a thread the machine does not
+/// run holds: it answers (no plan) when released, or after 5 s.
+class BlockedPlanner : public Planner {
+ public:
+  void plan(const PlannerInput&, PlannerOutput& out) override {
+    std::unique_lock<std::mutex> lock(mutex_);
+    released_.wait_for(lock, std::chrono::seconds(5), [this] { return release_; });
+    out.valid = false;
+    copyText(out.message, "released");
+  }
+  void release() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      release_ = true;
+    }
+    released_.notify_all();
+  }
+
+ private:
+  std::mutex mutex_;
+  std::condition_variable released_;
+  bool release_ = false;
+};
+
+TEST_F(DeadlinePolicy, APlannerThatDoesNotRunIsAFaultThatSaysSo) {
+  BlockedPlanner planner;
+  {
+    const AttachedPlanner attached(*loop_, planner);
+    ticks(600);  // past the 0.5 s a plan may take while planning starts
+    planner.release();
+  }
+  const Fault* f = fault(FaultKind::kPlanner);
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(status_.mode, Mode::kDamp);
+  // The solve's wall time and the planner thread's CPU time in it: blocked, it did not run.
+  const char* solve = std::strstr(f->message, "the planner did not answer: in a solve for ");
+  ASSERT_NE(solve, nullptr) << f->message;
+  double wall = -1.0, cpu = -1.0;
+  ASSERT_EQ(std::sscanf(solve, "the planner did not answer: in a solve for %lf ms, %lf ms of it on a CPU",
+                        &wall, &cpu),
+            2)
+      << f->message;
+  EXPECT_GT(wall, 0.0) << f->message;
+  EXPECT_GE(cpu, 0.0) << f->message;
+  EXPECT_LT(cpu, 0.5 * wall) << f->message;
 }
 
 }  // namespace
