@@ -30,12 +30,15 @@ void fillWeights(const model::Model& model, const LocomotionSettings& s, mpc::Pr
   p.stateWeights.segment<3>(3).setConstant(w.angularMomentum / (m * m));
   p.stateWeights.segment<3>(L.kBasePosition) = w.basePosition;
   p.stateWeights.segment<3>(L.kBaseZyx) = w.baseOrientation;
-  p.inputWeights.resize(L.nu());
+  const int soles = mpc::KinodynamicProblem::soleMoments(p);
+  p.inputWeights.resize(L.nu() + soles);
   p.inputWeights.head(3 * kNumContacts).setConstant(w.force);
   for (int j = 0; j < model.nj(); ++j) {
     p.stateWeights[L.kJoints + j] = s.armJoint[j] ? w.armJoint : w.legJoint;
     p.inputWeights[L.jointVelocity() + j] = s.armJoint[j] ? w.armJointVelocity : w.legJointVelocity;
   }
+  // A sole's moment m is what a force of 2m/w at its edge exerts: weighted as that force.
+  if (soles > 0) p.inputWeights.tail(soles).setConstant(w.force * 4.0 / (p.soleWidth * p.soleWidth));
 }
 
 gait::VelocityCommand planarCommand(const LocomotionCommand& c) {
@@ -321,10 +324,13 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
     xk.head(nx) = s.x[k];
     if (nx < plan.nx) xk.tail(plan.nx - nx) = settings_.nominalJoints;
   }
+  // The kino-dynamic layout's inputs: the soles' moments after them stay in the MPC (the
+  // whole-body controller's standing feet do not roll; kinodynamic_problem.hpp).
+  const int shared = std::min(nu, plan.nu);
   for (int k = 0; k < plan.nodes; ++k) {
     Eigen::Map<Eigen::VectorXd> uk(plan.u[k], plan.nu);
-    uk.head(nu) = s.u[k];
-    uk.tail(plan.nu - nu).setZero();
+    uk.head(shared) = s.u[k].head(shared);
+    uk.tail(plan.nu - shared).setZero();
   }
   plan.schedule = schedule_;
   plan.swings = swings_;

@@ -1,6 +1,9 @@
 #include "mpc/kinodynamic_problem.hpp"
 
+#include <array>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "model/centroidal_dynamics_derivatives.hpp"
 
@@ -21,16 +24,31 @@ NodeWorkspace::NodeWorkspace(const KinodynamicProblem& problem)
       pointDx{model::Mat3X<double>(3, problem.nx()), model::Mat3X<double>(3, problem.nx())},
       pointDu{model::Mat3X<double>(3, problem.nu()), model::Mat3X<double>(3, problem.nu())},
       gradX(problem.nx()),
-      gradU(problem.nu()) {}
+      gradU(problem.nu()),
+      axisDx(3, problem.nx()) {}
 
 KinodynamicProblem::KinodynamicProblem(const model::Model& model,
                                        const std::array<int, kNumContacts>& contactFrames,
                                        const ProblemSettings& settings)
     : model_(model),
       contactFrames_(contactFrames.begin(), contactFrames.end()),
-      settings_(settings),
       nx_(CentroidalLayout{model.nj(), kNumContacts}.nx()),
-      nu_(CentroidalLayout{model.nj(), kNumContacts}.nu()) {}
+      nu_(CentroidalLayout{model.nj(), kNumContacts}.nu() + soleMoments(settings)),
+      soles_(soleMoments(settings)) {
+  setSettings(settings);
+}
+
+void KinodynamicProblem::setSettings(const ProblemSettings& s) {
+  if (s.stateWeights.size() != nx_ || s.inputWeights.size() != nu_)
+    throw std::invalid_argument("kino-dynamic problem: " + std::to_string(nx_) + " state and " +
+                                std::to_string(nu_) + " input weights needed, got " +
+                                std::to_string(s.stateWeights.size()) + " and " +
+                                std::to_string(s.inputWeights.size()));
+  if (!(s.soleWidth >= 0.0)) throw std::invalid_argument("kino-dynamic problem: negative sole width");
+  if (soleMoments(s) != soles_)
+    throw std::invalid_argument("kino-dynamic problem: line feet and soles with width are different problems");
+  settings_ = s;
+}
 
 Eigen::VectorXd KinodynamicProblem::stateError(const Eigen::VectorXd& x,
                                                const Eigen::VectorXd& xRef) const {
@@ -60,6 +78,33 @@ void KinodynamicProblem::adaptInputToMode(const NodeReference& ref, const Stance
     if (ref.stance[c] == before[c]) continue;
     const int i = CentroidalLayout::force(c);
     u.segment<3>(i) = ref.stance[c] ? Eigen::Vector3d(ref.u.segment<3>(i)) : Eigen::Vector3d::Zero();
+    if (soles_ > 0) u[soleMoment(c / 2)] = ref.u[soleMoment(c / 2)];  // a sole lands or lifts
+  }
+}
+
+bool KinodynamicProblem::standsOnSole(const NodeReference& ref, int foot) const {
+  return soles_ > 0 && ref.stance[2 * foot] && ref.stance[2 * foot + 1];
+}
+
+void KinodynamicProblem::addSoleMoments(NodeWorkspace& ws, const Eigen::VectorXd& u,
+                                        bool derivatives) const {
+  for (int foot = 0; foot < soles_; ++foot) {
+    const model::FrameKinematicsZyx& toe = ws.contacts[2 * foot];
+    const model::FrameKinematicsZyx& heel = ws.contacts[2 * foot + 1];
+    const Eigen::Vector3d d = toe.position - heel.position;
+    const double length = d.norm();
+    if (!(length > 0.0)) continue;  // toe and heel on one point: a point foot has no line
+    const Eigen::Vector3d a = d / length;
+    const int i = soleMoment(foot);
+    const double m = u[i];
+    ws.xdot.segment<3>(3) += m * a;
+    if (!derivatives) continue;
+    ws.Bu.block<3, 1>(3, i) = a;
+    if (m == 0.0) continue;
+    // ∂a/∂x = (I − a aᵀ)/‖d‖ · ∂d/∂x.
+    ws.axisDx.noalias() = toe.dPosition_dx - heel.dPosition_dx;
+    ws.axisDx -= a * (a.transpose() * ws.axisDx);
+    ws.Ax.middleRows<3>(3) += (m / length) * ws.axisDx;
   }
 }
 
@@ -82,10 +127,12 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
       k.position = model::framePlacement(model_, ws.data, contactFrames_[c]).p;
       k.velocity = ws.data.ov[model_.frames[contactFrames_[c]].body].pointVelocity(k.position);
     }
+    addSoleMoments(ws, u, false);
   } else {
     for (int c = 0; c < kNumContacts; ++c)
       model::frameKinematicsZyx(model_, ws.data, contactFrames_[c], ws.xMid, ws.Ax, ws.Bu,
                                 ws.contacts[c]);
+    addSoleMoments(ws, u, true);  // before the chain rule: the lines turn with the joints too
     // Chain rule through x_mid: ∂/∂v_j += (dt/2)·∂/∂q_j.
     const double half = 0.5 * dt;
     ws.Bu.middleCols(L.jointVelocity(), nj).noalias() += half * ws.Ax.middleCols(L.kJoints, nj);
@@ -181,6 +228,18 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
     }
     row += 3;
   }
+  for (int foot = 0; foot < soles_; ++foot) {
+    if (standsOnSole(ref, foot)) continue;
+    const int i = soleMoment(foot);
+    eq2 += u[i] * u[i];
+    if (node) {
+      node->e[row] = u[i];
+      node->C.row(row).setZero();
+      node->D.row(row).setZero();
+      node->D(row, i) = 1.0;
+    }
+    ++row;
+  }
   value.equalityNorm2 = eq2;
 
   // Cost, integrated over the stage: tracking, then barriers.
@@ -215,6 +274,24 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
             Eigen::Vector3d(-f.x() / tangential, -f.y() / tangential, s.frictionCoefficient));
     barrier(f.z() - s.minNormalForce, Eigen::Vector3d::UnitZ());
     barrier(s.maxNormalForce - f.z(), -Eigen::Vector3d::UnitZ());
+  }
+  // Standing soles: |m| ≤ (w/2)(f_z,toe + f_z,heel), as f_z,toe + f_z,heel ∓ 2m/w ≥ 0 (N).
+  for (int foot = 0; foot < 2; ++foot) {
+    if (!standsOnSole(ref, foot)) continue;
+    const std::array<int, 3> at{L.force(2 * foot) + 2, L.force(2 * foot + 1) + 2, soleMoment(foot)};
+    const double normal = u[at[0]] + u[at[1]], lever = 2.0 / s.soleWidth;
+    for (const double sign : {1.0, -1.0}) {
+      const double h = normal - sign * lever * u[at[2]];
+      const RelaxedBarrier& b = s.frictionBarrier;
+      cost += dt * b.value(h);
+      if (!node) continue;
+      const std::array<double, 3> grad{1.0, 1.0, -sign * lever};
+      const double d1 = dt * b.firstDerivative(h), d2 = dt * b.secondDerivative(h);
+      for (int r = 0; r < 3; ++r) {
+        node->r[at[r]] += d1 * grad[r];
+        for (int c = 0; c < 3; ++c) node->R(at[r], at[c]) += d2 * grad[r] * grad[c];
+      }
+    }
   }
   // Joint position and velocity limits: each a scalar bound on one entry.
   auto bound = [&](double h, double sign, int index, bool onState,

@@ -1,8 +1,22 @@
 // The kino-dynamic optimal control problem of the paper's Sec. II-A, one node at a time.
 //
-// State and input (model/centroidal_dynamics.hpp):
-//   x = [h_com (6), p_b (3), zyx_b (3), q_j (nj)],   u = [f_c1..f_c4 (12, world), v_j (nj)]
+// State and input (model/centroidal_dynamics.hpp, and the soles' moments):
+//   x = [h_com (6), p_b (3), zyx_b (3), q_j (nj)],
+//   u = [f_c1..f_c4 (12, world), v_j (nj)(, m_left, m_right: soles with width)]
 // Contact points, in this order: left toe, left heel, right toe, right heel.
+//
+// Soles with width: toe and heel lie on a line along the sole, so their forces exert no moment
+// about it, and a foot standing alone could not resist a roll (a sideways push in single support:
+// the plan had to hop, unloading the foot, to keep the body from rolling over it). A real sole
+// has a width w (ProblemSettings::soleWidth), over which its centre of pressure moves: m_foot is
+// the moment about its toe-heel line, along a = (p_toe − p_heel)/‖p_toe − p_heel‖ (world, at
+// x_mid), added to the angular momentum's rate, ḣ_ang += m_left a_left + m_right a_right,
+// and bounded by the sole's normal force, |m| ≤ (w/2)(f_z,toe + f_z,heel), as a relaxed barrier
+// (in force units: f_z,toe + f_z,heel ∓ 2m/w ≥ 0); a foot not standing on both points has
+// m = 0 as an equality. With w = 0 (the four-point model's line feet, the paper's) the inputs
+// are not there: u is the layout's, and the problem is the paper's. The whole-body
+// controller needs no such input: its stance feet do not roll (whole_body_controller.hpp), and
+// the ankle roll torque that takes is the moment.
 //
 // Equalities (projected out by the solver), per foot:
 //   stance point:  contact velocity = 0
@@ -76,6 +90,9 @@ struct ProblemSettings {
   RelaxedBarrier limitBarrier;       ///< on joint limits (rad, rad/s)
   RelaxedBarrier jointStop{10.0, 0.02, 0.15};  ///< on joint position limits, near them only (rad)
   RelaxedBarrier collisionBarrier{0.1, 0.005};  ///< on squared distance (m²)
+  /// Width (m) across a sole over which its centre of pressure moves (see the header); 0: line
+  /// feet, no moment about the toe-heel line.
+  double soleWidth = 0.0;
 };
 
 class KinodynamicProblem;
@@ -96,24 +113,35 @@ struct NodeWorkspace : ProblemWorkspace {
   std::array<Eigen::Vector3d, 2> pointResidual;
   Eigen::Vector3d rowResidual;
   Eigen::VectorXd gradX, gradU;                     ///< scratch: a barrier's gradient
+  model::Mat3X<double> axisDx;                      ///< scratch: ∂(a sole's toe-heel line)/∂x
 };
 
 class KinodynamicProblem final : public OptimalControlProblem {
  public:
-  /// contactFrames: model frame indices of left toe, left heel, right toe, right heel.
+  /// contactFrames: model frame indices of left toe, left heel, right toe, right heel. Throws as
+  /// setSettings().
   KinodynamicProblem(const model::Model& model, const std::array<int, kNumContacts>& contactFrames,
                      const ProblemSettings& settings);
 
+  /// Inputs after the kino-dynamic layout's for soles with width (ProblemSettings::soleWidth
+  /// > 0): their moments (left, right), N·m. Line feet have none, and the layout's nu.
+  static int soleMoments(const ProblemSettings& s) { return s.soleWidth > 0.0 ? 2 : 0; }
+
   int nx() const override { return nx_; }
   int nu() const override { return nu_; }
-  int maxEqualities() const override { return 2 * 5 + 3 * kNumContacts; }
+  int maxEqualities() const override { return 2 * 5 + 3 * kNumContacts + soles_; }
+  /// Index in u of the moment of foot 0 (left) or 1 (right) about its toe-heel line (soles with
+  /// width only).
+  int soleMoment(int foot) const { return nu_ - soles_ + foot; }
   std::unique_ptr<ProblemWorkspace> makeWorkspace() const override {
     return std::make_unique<NodeWorkspace>(*this);
   }
   const model::Model& model() const { return model_; }
   const std::vector<int>& contactFrames() const { return contactFrames_; }
   const ProblemSettings& settings() const { return settings_; }
-  void setSettings(const ProblemSettings& s) { settings_ = s; }
+  /// Throws std::invalid_argument for weights of the wrong sizes (nx, nu), a negative sole width,
+  /// or one that would change nu (line feet against soles with width: a new problem).
+  void setSettings(const ProblemSettings& s);
 
   void evaluate(ProblemWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
                 const Eigen::VectorXd& u, double dt, NodeValue& value) const override;
@@ -131,11 +159,16 @@ class KinodynamicProblem final : public OptimalControlProblem {
  private:
   void compute(NodeWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
                const Eigen::VectorXd& u, double dt, LqNode* node, NodeValue& value) const;
+  /// A foot stands on its sole (both its points in stance) and the sole has width.
+  bool standsOnSole(const NodeReference& ref, int foot) const;
+  /// The soles' moments in ẋ (and, with derivatives, in ∂f/∂u and ∂f/∂x), from ws.contacts.
+  void addSoleMoments(NodeWorkspace& ws, const Eigen::VectorXd& u, bool derivatives) const;
 
   const model::Model& model_;
   std::vector<int> contactFrames_;
   ProblemSettings settings_;
   int nx_, nu_;
+  int soles_;  ///< soleMoments(): inputs of the soles' moments, 0 or 2
 };
 
 }  // namespace ballast::mpc

@@ -182,6 +182,7 @@ const Schema<Settings> kTable({
       const mpc::ProblemSettings& p = s.control.locomotion.problem;
       return p.minNormalForce >= p.maxNormalForce ? "must be below planner.max_normal_force" : "";
     }},
+  number("planner.sole_width", "0", 0, 1, "m", "width across each sole over which its centre of pressure moves: the MPC's feet resist a roll about their toe-heel line up to half this times their normal force (mpc/kinodynamic_problem.hpp); 0: line feet, as the paper's four contact points").into<&S::control, &C::locomotion, &L::problem, &P::soleWidth>(),
   number("planner.joint_limit_margin", "0.05", 0, 0.5, "rad", "kept from each URDF joint limit").into<&S::control, &C::locomotion, &L::problem, &P::jointLimitMargin>(),
   number("planner.swing_position_gain", "20", 0, 1e3, "1/s", "swing contact points: velocity = reference velocity + this gain times the position error").into<&S::control, &C::locomotion, &L::problem, &P::swingPositionGain>(),
 

@@ -151,14 +151,17 @@ class Kinodynamic : public ::testing::Test {
   const CentroidalLayout L{m.nj(), kNumContacts};
   model::VecX<double> qStand = test::standingConfiguration(m);
 
-  ProblemSettings settings() const {
+  /// soleWidth > 0: soles with width, and their moments' input weights.
+  ProblemSettings settings(double soleWidth = 0.0) const {
     ProblemSettings s = test::controlDefaults().locomotion.problem;
+    s.soleWidth = soleWidth;
+    const int nu = L.nu() + KinodynamicProblem::soleMoments(s);
     s.stateWeights = Eigen::VectorXd::Constant(L.nx(), 1.0);
     s.stateWeights.segment<6>(0).setConstant(10.0);
     s.stateWeights.segment<6>(L.kBasePosition).setConstant(500.0);
     s.stateWeights.segment(L.kJoints, m.nj()).setConstant(20.0);
-    s.inputWeights = Eigen::VectorXd::Constant(L.nu(), 1e-3);
-    s.inputWeights.tail(m.nj()).setConstant(1.0);
+    s.inputWeights = Eigen::VectorXd::Constant(nu, 1e-3);
+    s.inputWeights.segment(L.jointVelocity(), m.nj()).setConstant(1.0);
     return s;
   }
   /// x for the standing configuration q with momentum h.
@@ -168,21 +171,24 @@ class Kinodynamic : public ::testing::Test {
         q.tail(m.nj());
     return x;
   }
-  NodeReference standingReference() const {
+  /// For a problem of `nu` inputs.
+  NodeReference standingReference(int nu) const {
     NodeReference r;
     r.x = stateOf(qStand, model::Vec6<double>::Zero());
-    r.u = Eigen::VectorXd::Zero(L.nu());
+    r.u = Eigen::VectorXd::Zero(nu);
     for (int c = 0; c < 4; ++c) r.u[L.force(c) + 2] = m.totalMass() * 9.81 / 4;
     return r;
   }
 };
 
 TEST_F(Kinodynamic, LinearizationMatchesFiniteDifferences) {
-  KinodynamicProblem problem(m, frames, settings());
+  // Soles with width: the standing right sole's moment in the dynamics and its barrier.
+  KinodynamicProblem problem(m, frames, settings(0.1));
+  const int nu = problem.nu();
   auto ws = problem.makeWorkspace();
   std::mt19937 rng(2);
   std::normal_distribution<double> n(0, 1);
-  NodeReference ref = standingReference();
+  NodeReference ref = standingReference(problem.nu());
   ref.stance = {false, false, true, true};  // left foot swinging
   for (int c : {0, 1}) {
     ref.swingPosition[c] = Eigen::Vector3d(0.1 * n(rng), 0.1 + 0.05 * n(rng), 0.05);
@@ -192,16 +198,17 @@ TEST_F(Kinodynamic, LinearizationMatchesFiniteDifferences) {
   for (int i = 0; i < 6; ++i) x[i] += 5 * n(rng);
   for (int i = L.kBaseZyx; i < L.nx(); ++i) x[i] += 0.05 * n(rng);
   for (int i = 0; i < 12; ++i) u[i] += 20 * n(rng);
-  for (int i = 12; i < L.nu(); ++i) u[i] = 0.3 * n(rng);
+  for (int i = 12; i < nu; ++i) u[i] = 0.3 * n(rng);
+  u[problem.soleMoment(1)] = 15.0;  // the right sole's, within its barrier's reach
   const double dt = 0.02;
-  LqNode node(L.nx(), L.nu(), problem.maxEqualities()), probe = node;
+  LqNode node(L.nx(), nu, problem.maxEqualities()), probe = node;
   NodeValue value, probeValue;
   problem.linearize(*ws, ref, x, u, dt, node, value);
-  EXPECT_EQ(node.neq, 10 + 6);
+  EXPECT_EQ(node.neq, 10 + 6 + 1);  // contact velocities, swing forces, the lifted sole's moment
 
   const double h = 1e-6;
-  Eigen::MatrixXd Cfd(node.neq, L.nx()), Dfd(node.neq, L.nu()), Afd(L.nx(), L.nx()), Bfd(L.nx(), L.nu());
-  Eigen::VectorXd qfd(L.nx()), rfd(L.nu());
+  Eigen::MatrixXd Cfd(node.neq, L.nx()), Dfd(node.neq, nu), Afd(L.nx(), L.nx()), Bfd(L.nx(), nu);
+  Eigen::VectorXd qfd(L.nx()), rfd(nu);
   auto column = [&](Eigen::VectorXd& xp, Eigen::VectorXd& up, Eigen::VectorXd& xm, Eigen::VectorXd& um,
                     auto&& A, auto&& C, double& g) {
     problem.linearize(*ws, ref, xp, up, dt, probe, probeValue);
@@ -219,7 +226,7 @@ TEST_F(Kinodynamic, LinearizationMatchesFiniteDifferences) {
     column(xp, uu, xm, uu, Afd.col(i), Cfd.col(i), qfd[i]);
     Afd(i, i) += 1.0;
   }
-  for (int i = 0; i < L.nu(); ++i) {
+  for (int i = 0; i < nu; ++i) {
     Eigen::VectorXd up = u, um = u, xx = x;
     up[i] += h;
     um[i] -= h;
@@ -249,13 +256,13 @@ TEST_F(Kinodynamic, AlternatingJointVelocitiesDoNotSteerTheBase) {
   // dt·v (0.2 rad here), so at least 4 times smaller.
   KinodynamicProblem problem(m, frames, settings());
   auto ws = problem.makeWorkspace();
-  const NodeReference ref = standingReference();
+  const NodeReference ref = standingReference(problem.nu());
   const Eigen::VectorXd x0 = stateOf(qStand, model::Vec6<double>::Zero());
   const double dt = 0.02, w = 10.0;
   model::Data<double> d(m);
   const std::vector<int> contacts(frames.begin(), frames.end());
   for (const char* joint : {"left_shoulder_pitch", "right_shoulder_roll", "left_hip_roll"}) {
-    Eigen::VectorXd up = Eigen::VectorXd::Zero(L.nu()), down = up;
+    Eigen::VectorXd up = Eigen::VectorXd::Zero(problem.nu()), down = up;
     up[L.jointVelocity() + m.jointId(joint)] = w;
     down[L.jointVelocity() + m.jointId(joint)] = -w;
     NodeValue v;
@@ -284,7 +291,7 @@ TEST_F(Kinodynamic, StandingConvergesToStaticEquilibrium) {
   settings.nodes = 25;
   settings.dt = 0.04;
   SqpSolver sqp(problem, settings);
-  for (auto& r : sqp.references()) r = standingReference();
+  for (auto& r : sqp.references()) r = standingReference(problem.nu());
   // Start off balance: base 2 cm aside, some momentum.
   model::VecX<double> q = qStand;
   q[1] += 0.02;
@@ -316,6 +323,46 @@ TEST_F(Kinodynamic, StandingConvergesToStaticEquilibrium) {
   EXPECT_LT((s.x[0] - x0).norm(), 1e-12);
 }
 
+TEST_F(Kinodynamic, AFootStandingAloneHoldsTheBodyBesideItsToeHeelLineWithItsSole) {
+  // Standing as on both feet, the left one lifted: the centre of mass is beside the right foot's
+  // toe-heel line, and only a moment about that line holds the body still (toe and heel forces
+  // lie on it): m = m g · (the centre of mass's distance from the line). A sole wide enough to
+  // give it (0.3 m: half of it times m g is more than that).
+  KinodynamicProblem problem(m, frames, settings(0.3));
+  SqpSettings settings = test::controlDefaults().locomotion.sqp;
+  settings.nodes = 25;
+  settings.dt = 0.04;
+  SqpSolver sqp(problem, settings);
+  model::Data<double> d(m);
+  model::forwardKinematics(m, d, qStand);
+  model::compositeWorldInertias(m, d);
+  const double line = 0.5 * (model::framePlacement(m, d, frames[2]).p.y() +
+                             model::framePlacement(m, d, frames[3]).p.y());
+  const double offset = d.com.y() - line;  // > 0: left of the right foot
+  ASSERT_GT(offset, 0.05);
+  const Eigen::VectorXd x0 = stateOf(qStand, model::Vec6<double>::Zero());
+  NodeReference ref = standingReference(problem.nu());
+  ref.stance = {false, false, true, true};
+  ref.u.setZero();
+  for (int c : {2, 3}) ref.u[L.force(c) + 2] = m.totalMass() * 9.81 / 2;
+  for (int c : {0, 1}) {  // the left foot held where it is
+    ref.swingPosition[c] = model::framePlacement(m, d, frames[c]).p;
+    ref.swingVelocity[c].setZero();
+  }
+  for (auto& r : sqp.references()) r = ref;
+  for (int it = 0; it < 15; ++it) ASSERT_TRUE(sqp.iterate(0.0, x0)) << it << ": " << sqp.statistics().message;
+  const MpcSolution& s = sqp.solution();
+  EXPECT_LT(sqp.statistics().violation, 1e-5);
+  const double held = offset * m.totalMass() * 9.81;
+  for (std::size_t k = 0; k < s.u.size(); ++k) {
+    SCOPED_TRACE(k);
+    EXPECT_LT((s.x[k].segment<2>(L.kBasePosition) - x0.segment<2>(L.kBasePosition)).norm(), 0.005);
+    EXPECT_LT(s.x[k].head<6>().norm(), 1.0);  // at rest
+    EXPECT_NEAR(s.u[k][problem.soleMoment(1)], held, 0.1 * held);
+    EXPECT_EQ(s.u[k][problem.soleMoment(0)], 0.0);  // the lifted foot's
+  }
+}
+
 TEST_F(Kinodynamic, TheSolutionIsTheSameOnOneThreadAsOnSeveral) {
   // Nodes are projected on any thread and the backward sweep follows them on the caller's: the
   // arithmetic must not depend on who did what, so plans are bit-identical whatever the cores.
@@ -327,7 +374,7 @@ TEST_F(Kinodynamic, TheSolutionIsTheSameOnOneThreadAsOnSeveral) {
     s.dt = 0.02;
     s.threads = threads;
     SqpSolver sqp(problem, s);
-    for (auto& r : sqp.references()) r = standingReference();
+    for (auto& r : sqp.references()) r = standingReference(problem.nu());
     model::VecX<double> q = qStand;
     q[1] += 0.03;
     model::Vec6<double> h;
