@@ -17,6 +17,18 @@
 
 namespace ballast::gait {
 
+/// `gait` with its double support shortened (to none at the most) so that a swing over
+/// `distance` (m, horizontal) moves its foot at a mean speed of at most `maxSwingSpeed` (m/s):
+/// the swing takes ½(1 − double support)·period, and a step's touch-downs stay where they are
+/// (every half period). False when even with no double support the swing would be faster; the
+/// double support is then none. A limit ≤ 0 is none.
+inline bool fitSwing(Gait& gait, double distance, double maxSwingSpeed) {
+  if (!(maxSwingSpeed > 0.0)) return true;
+  const double doubleSupport = 1.0 - 2.0 * distance / (gait.period * maxSwingSpeed);
+  gait.doubleSupport = std::clamp(doubleSupport, 0.0, gait.doubleSupport);
+  return doubleSupport >= 0.0;
+}
+
 /// `walk` at planar speed `speed` (m/s): the period shortened so that a step, speed·period/2,
 /// is at most `maxStepLength` (m), then the double support shortened (to none at the most) so
 /// that a swing foot's mean speed is at most `maxSwingSpeed` (m/s). A limit ≤ 0 is none.
@@ -25,8 +37,7 @@ inline Gait gaitAtSpeed(Gait walk, double speed, double maxStepLength, double ma
   if (!walk.walking || !(speed > 0.0)) return walk;
   if (maxStepLength > 0.0 && 0.5 * speed * walk.period > maxStepLength)
     walk.period = 2.0 * maxStepLength / speed;
-  if (maxSwingSpeed > 0.0)
-    walk.doubleSupport = std::clamp(1.0 - 2.0 * speed / maxSwingSpeed, 0.0, walk.doubleSupport);
+  fitSwing(walk, speed * walk.period, maxSwingSpeed);  // each swing covers the stride v·T
   return walk;
 }
 

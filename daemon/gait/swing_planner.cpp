@@ -234,6 +234,18 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
   }
 }
 
+double SwingPlanner::longestNextSwing(double t) const {
+  double longest = 0.0;
+  for (const int toe : {kLeftToe, kRightToe})
+    for (int i = 0; i < count_[toe]; ++i) {
+      const SwingTrajectory& s = swings_[toe][i];
+      if (s.liftOff <= t) continue;
+      longest = std::max(longest, (s.touchDownPosition - s.liftOffPosition).head<2>().norm());
+      break;
+    }
+  return longest;
+}
+
 const SwingTrajectory* SwingPlanner::swingAt(int contact, double t) const {
   for (int i = 0; i < count_[contact]; ++i) {
     const SwingTrajectory& s = swings_[contact][i];

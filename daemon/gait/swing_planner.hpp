@@ -87,6 +87,10 @@ class SwingPlanner {
   /// Capture point rule: one of the next two steps (one per foot) in the last update could not
   /// land where the capture point asked, held to the step limits (Step::limited).
   bool stepsLimited() const { return stepsLimited_; }
+  /// The horizontal distance (m) its foot covers in the longer of the two feet's next swings
+  /// that lift off after t (their toes' swings in the last update): what a gait's swing time
+  /// has to carry (cadence.hpp, fitSwing). 0 when neither foot has one in the horizon.
+  double longestNextSwing(double t) const;
   const SwingPlannerParameters& parameters() const { return params_; }
   void setParameters(const SwingPlannerParameters& p) { params_ = p; }
 

@@ -261,26 +261,37 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
     // beyond the step limits (a push) comes sooner, and so does the one after it. The period is
     // the longest (from the gait's own down to recovery.minPeriod) at which the next two steps
     // are within the limits, tried on copies of the schedule and the swings: each update asks
-    // it afresh, whatever gait is in force. Testing the limits on the gait in force and then
-    // asking recovery.minPeriod at once switched it back and forth (the short gait brings the
-    // steps within the limits, the long one is then asked again), and took the shortest cycle
-    // where a slightly shorter one did: traced, 90 N along +x at 0.5 m/s, the 0.5 s gait's
-    // first 0.05 s double support and 0.2 s swing threw the torso (pitch 0.05 -> 0.22 rad in
-    // 0.1 s) at the 6 of 8 phases where it engaged; without the step timing all 8 held.
+    // it afresh, whatever gait is in force (testing the limits on the gait in force switched it
+    // back and forth: the short gait brings the steps within the limits, the long one is then
+    // asked again). A shorter cycle is taken only as far as its next two swings keep to
+    // gait.max_swing_speed, the double support shortened first (gait::fitSwing): a step held
+    // to the limits is up to twice the longest step from lift-off to touch-down whatever the
+    // cycle, so a shorter cycle asks its swing foot for more speed, not for a shorter step.
+    // Traced, 90 N along +x at 0.5 m/s: the 0.6 s cycle's swings of 1.0 m in 0.24 s (4.2 m/s;
+    // walking keeps 3.1) fell behind their path, the swing leg folded (its knee past its range,
+    // the foot 0.8 m up) and the robot fell.
+    const gait::Gait& inForce = schedule_.latestGait();
     if (swings_.parameters().rule == gait::FootholdRule::kCapturePoint &&
         (swings_.stepsLimited() ||
-         (schedule_.latestGait().walking && schedule_.latestGait().period < next.period))) {
+         (inForce.walking && (inForce.period < next.period ||
+                              inForce.doubleSupport < next.doubleSupport)))) {
       const double longest = next.period;
       const double shortest = std::min(settings_.recovery.minPeriod, longest);
       constexpr double kPeriodStep = 0.05;  // s between the periods tried
+      const gait::Gait walk = next;
       for (double p = longest;; p -= kPeriodStep) {
-        next.period = std::max(p, shortest);
-        if (next.period <= shortest + 1e-9) break;
+        gait::Gait trial = walk;
+        trial.period = std::max(p, shortest);
         gait::ContactSchedule schedule = schedule_;
-        schedule.setGait(next, starting ? walkStartsAt_ : t);
+        schedule.setGait(trial, starting ? walkStartsAt_ : t);
         gait::SwingPlanner swings = swings_;
         swings.update(schedule, gaitState, planarCommand(command), horizon, terrain_);
-        if (!swings.stepsLimited()) break;
+        // The touch-downs, and with them the footholds, do not move with the double support.
+        const bool swingFits =
+            gait::fitSwing(trial, swings.longestNextSwing(t), settings_.maxSwingSpeed);
+        if (!swingFits && trial.period < longest) break;  // the previous cycle (next) stays
+        next = trial;
+        if (!swings.stepsLimited() || trial.period <= shortest + 1e-9) break;
       }
     }
   }

@@ -1,4 +1,4 @@
-// gaitAtSpeed (gait/cadence.hpp) against hand-computed cases.
+// gaitAtSpeed and fitSwing (gait/cadence.hpp) against hand-computed cases.
 #include <gtest/gtest.h>
 
 #include "gait/cadence.hpp"
@@ -52,6 +52,30 @@ TEST(Cadence, BothLimitsTogether) {
   EXPECT_NEAR(g.doubleSupport, 0.0909, 1e-4);
   EXPECT_LE(swingSpeed(g, 1.5), 3.3 + 1e-12);
   EXPECT_LE(0.5 * 1.5 * g.period, 0.5 + 1e-12);
+}
+
+TEST(Cadence, ASwingIsFittedWithinItsSpeedByTheDoubleSupport) {
+  // A 0.8 m swing in a 0.6 s cycle at 3.1 m/s takes 0.8/3.1 = 0.2581 s of the 0.3 s step: the
+  // double support is 1 − 2·0.8/(0.6·3.1) = 0.13978 of the cycle.
+  Gait g = walking(0.6, 0.2);
+  EXPECT_TRUE(fitSwing(g, 0.8, 3.1));
+  EXPECT_NEAR(g.doubleSupport, 1.0 - 1.6 / 1.86, 1e-12);
+  EXPECT_NEAR(0.8 / g.swingDuration(), 3.1, 1e-12);
+  EXPECT_EQ(g.period, 0.6);
+  // A short swing keeps the gait's own double support; no limit keeps it whatever the swing.
+  g = walking(0.6, 0.2);
+  EXPECT_TRUE(fitSwing(g, 0.5, 3.1));  // 1 − 1/1.86 = 0.462 > 0.2
+  EXPECT_EQ(g, walking(0.6, 0.2));
+  EXPECT_TRUE(fitSwing(g, 5.0, 0.0));
+  EXPECT_EQ(g, walking(0.6, 0.2));
+  // 1.0 m in that cycle needs 0.323 s of swing, more than the 0.3 s step: none, and false.
+  g = walking(0.6, 0.2);
+  EXPECT_FALSE(fitSwing(g, 1.0, 3.1));
+  EXPECT_EQ(g.doubleSupport, 0.0);
+  // The walking gait's own case: gaitAtSpeed fits the stride v·T (1.5 m/s, T 0.8: 1.2 m).
+  g = walking(0.8, 0.2);
+  EXPECT_TRUE(fitSwing(g, 1.5 * 0.8, 3.3));
+  EXPECT_NEAR(g.doubleSupport, gaitAtSpeed(walking(0.8, 0.2), 1.5, 0.0, 3.3).doubleSupport, 1e-12);
 }
 
 }  // namespace
