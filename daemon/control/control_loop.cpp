@@ -403,7 +403,7 @@ void ControlLoop::planPost() {
     if (cold)
       std::snprintf(message_, sizeof(message_),
                     "no valid plan %.3f s after planning started (%.3f s allowed while it starts): "
-                    "%.120s",
+                    "%.110s",
                     age, limit, reason);
     else
       std::snprintf(message_, sizeof(message_), "no valid plan for %.3f s (%s %.3f s): %.120s",

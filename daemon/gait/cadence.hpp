@@ -17,15 +17,15 @@
 
 namespace ballast::gait {
 
-/// `gait` with its double support shortened (to none at the most) so that a swing over
+/// `walk` with its double support shortened (to none at the most) so that a swing over
 /// `distance` (m, horizontal) moves its foot at a mean speed of at most `maxSwingSpeed` (m/s):
 /// the swing takes ½(1 − double support)·period, and a step's touch-downs stay where they are
 /// (every half period). False when even with no double support the swing would be faster; the
 /// double support is then none. A limit ≤ 0 is none.
-inline bool fitSwing(Gait& gait, double distance, double maxSwingSpeed) {
+inline bool fitSwing(Gait& walk, double distance, double maxSwingSpeed) {
   if (!(maxSwingSpeed > 0.0)) return true;
-  const double doubleSupport = 1.0 - 2.0 * distance / (gait.period * maxSwingSpeed);
-  gait.doubleSupport = std::clamp(doubleSupport, 0.0, gait.doubleSupport);
+  const double doubleSupport = 1.0 - 2.0 * distance / (walk.period * maxSwingSpeed);
+  walk.doubleSupport = std::clamp(doubleSupport, 0.0, walk.doubleSupport);
   return doubleSupport >= 0.0;
 }
 
