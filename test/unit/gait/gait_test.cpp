@@ -263,15 +263,20 @@ class SwingPlannerTest : public ::testing::Test {
     for (int c = 0; c < kNumContacts; ++c) s.contactPositions[c] = offsets[c];
     return s;
   }
+  /// A planner updated at time t walking the 0.8 s gait at 0.5 m/s, as commanded, from state().
+  SwingPlanner walkingAtHalfAMetreASecond(double t) const {
+    SwingPlanner planner(defaults(), offsets);
+    GaitState s = state();
+    s.t = t;
+    s.baseVelocity = s.comVelocity = Eigen::Vector3d{0.5, 0, 0};
+    planner.update(ContactSchedule(walk(0.8, 0.2), 0.0), s, VelocityCommand{0.5, 0, 0}, 1.0,
+                   FlatTerrain());
+    return planner;
+  }
 };
 
 TEST_F(SwingPlannerTest, WalkingForwardChainsSwingsAndStepsAhead) {
-  const ContactSchedule schedule(walk(0.8, 0.2), 0.0);
-  SwingPlanner planner(defaults(), offsets);
-  GaitState s = state();
-  s.baseVelocity = s.comVelocity = Eigen::Vector3d{0.5, 0, 0};
-  const VelocityCommand cmd{0.5, 0, 0};
-  planner.update(schedule, s, cmd, 1.0, FlatTerrain());
+  const SwingPlanner planner = walkingAtHalfAMetreASecond(0.0);
   const SwingTrajectory* first = planner.swingAt(kLeftToe, 0.2);
   ASSERT_NE(first, nullptr);
   EXPECT_LT((first->liftOffPosition - offsets[kLeftToe]).norm(), 1e-12);
@@ -368,22 +373,16 @@ TEST_F(SwingPlannerTest, TheCapturePointSaysWhenItsStepIsHeldToTheLimits) {
 TEST_F(SwingPlannerTest, TheLongestNextSwingIsOfTheFeetStillToLift) {
   // Walking at 0.5 m/s as commanded, the paper's rule: a foot lands 0.13 + 0.5·(t_td − t) +
   // 0.5·0.48·0.5 = 0.25 + 0.5·(t_td − t) ahead (the base at x 0 now).
-  const ContactSchedule schedule(walk(0.8, 0.2), 0.0);
-  SwingPlanner planner(defaults(), offsets);
-  GaitState s = state();
-  s.baseVelocity = s.comVelocity = Eigen::Vector3d{0.5, 0, 0};
-  const VelocityCommand cmd{0.5, 0, 0};
-  planner.update(schedule, s, cmd, 1.0, FlatTerrain());
   // At 0 neither foot has lifted: the left swings 0.08-0.4 from 0.13 to 0.45 (0.32 m), the right
   // 0.48-0.8 from 0.13 to 0.65 (0.52 m).
-  EXPECT_NEAR(planner.longestNextSwing(0.0), 0.52, 1e-9);
+  EXPECT_NEAR(walkingAtHalfAMetreASecond(0.0).longestNextSwing(0.0), 0.52, 1e-9);
   // At 0.1 the left foot is in the air: its swing now is not counted, its next one is (0.88-1.2,
   // from 0.40 to 0.80: 0.40 m); the right swings from 0.13 to 0.60 (0.47 m).
-  s.t = 0.1;
-  planner = SwingPlanner(defaults(), offsets);
-  planner.update(schedule, s, cmd, 1.0, FlatTerrain());
+  SwingPlanner planner = walkingAtHalfAMetreASecond(0.1);
   EXPECT_NEAR(planner.longestNextSwing(0.1), 0.47, 1e-9);
   // Standing: no swing.
+  GaitState s = state();
+  s.t = 0.1;
   planner.update(ContactSchedule(), s, VelocityCommand{}, 1.0, FlatTerrain());
   EXPECT_EQ(planner.longestNextSwing(0.1), 0.0);
 }
