@@ -25,7 +25,8 @@ NodeWorkspace::NodeWorkspace(const KinodynamicProblem& problem)
       pointDu{model::Mat3X<double>(3, problem.nu()), model::Mat3X<double>(3, problem.nu())},
       gradX(problem.nx()),
       gradU(problem.nu()),
-      axisDx(3, problem.nx()) {}
+      axisDx(3, problem.nx()),
+      axisRow(problem.nx()) {}
 
 KinodynamicProblem::KinodynamicProblem(const model::Model& model,
                                        const std::array<int, kNumContacts>& contactFrames,
@@ -103,7 +104,8 @@ void KinodynamicProblem::addSoleMoments(NodeWorkspace& ws, const Eigen::VectorXd
     if (m == 0.0) continue;
     // ∂a/∂x = (I − a aᵀ)/‖d‖ · ∂d/∂x.
     ws.axisDx.noalias() = toe.dPosition_dx - heel.dPosition_dx;
-    ws.axisDx -= a * (a.transpose() * ws.axisDx);
+    ws.axisRow.noalias() = a.transpose() * ws.axisDx;
+    ws.axisDx.noalias() -= a * ws.axisRow;
     ws.Ax.middleRows<3>(3) += (m / length) * ws.axisDx;
   }
 }

@@ -114,6 +114,7 @@ struct NodeWorkspace : ProblemWorkspace {
   Eigen::Vector3d rowResidual;
   Eigen::VectorXd gradX, gradU;                     ///< scratch: a barrier's gradient
   model::Mat3X<double> axisDx;                      ///< scratch: ∂(a sole's toe-heel line)/∂x
+  Eigen::RowVectorXd axisRow;                       ///< scratch: aᵀ axisDx
 };
 
 class KinodynamicProblem final : public OptimalControlProblem {
