@@ -26,7 +26,9 @@ NodeWorkspace::NodeWorkspace(const KinodynamicProblem& problem)
       gradX(problem.nx()),
       gradU(problem.nu()),
       axisDx(3, problem.nx()),
-      axisRow(problem.nx()) {}
+      axisRow(problem.nx()),
+      xError(problem.nx()),
+      uError(problem.nu()) {}
 
 KinodynamicProblem::KinodynamicProblem(const model::Model& model,
                                        const std::array<int, kNumContacts>& contactFrames,
@@ -49,16 +51,16 @@ void KinodynamicProblem::setSettings(const ProblemSettings& s) {
   if (soleMoments(s) != soles_)
     throw std::invalid_argument("kino-dynamic problem: line feet and soles with width are different problems");
   settings_ = s;
+  terminalWeights_ = s.terminalWeightScale * s.stateWeights;
 }
 
-Eigen::VectorXd KinodynamicProblem::stateError(const Eigen::VectorXd& x,
-                                               const Eigen::VectorXd& xRef) const {
-  Eigen::VectorXd e = x - xRef;
+void KinodynamicProblem::stateError(const Eigen::VectorXd& x, const Eigen::VectorXd& xRef,
+                                    Eigen::VectorXd& e) const {
+  e = x - xRef;
   for (int k = 0; k < 3; ++k) {
     double& a = e[CentroidalLayout::kBaseZyx + k];
     a = std::remainder(a, 2.0 * M_PI);
   }
-  return e;
 }
 
 void KinodynamicProblem::evaluate(ProblemWorkspace& ws, const NodeReference& ref,
@@ -245,8 +247,10 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
   value.equalityNorm2 = eq2;
 
   // Cost, integrated over the stage: tracking, then barriers.
-  const Eigen::VectorXd ex = stateError(x, ref.x);
-  const Eigen::VectorXd eu = u - ref.u;
+  stateError(x, ref.x, ws.xError);
+  ws.uError = u - ref.u;
+  const Eigen::VectorXd& ex = ws.xError;
+  const Eigen::VectorXd& eu = ws.uError;
   double cost = 0.5 * dt * (ex.dot(s.stateWeights.cwiseProduct(ex)) + eu.dot(s.inputWeights.cwiseProduct(eu)));
   if (node) {
     node->neq = row;
@@ -340,10 +344,11 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
   value.cost = cost;
 }
 
-double KinodynamicProblem::terminalCost(const NodeReference& ref, const Eigen::VectorXd& x,
-                                        LqNode* node) const {
-  const Eigen::VectorXd e = stateError(x, ref.x);
-  const Eigen::VectorXd w = settings_.terminalWeightScale * settings_.stateWeights;
+double KinodynamicProblem::terminalCost(ProblemWorkspace& workspace, const NodeReference& ref,
+                                        const Eigen::VectorXd& x, LqNode* node) const {
+  Eigen::VectorXd& e = static_cast<NodeWorkspace&>(workspace).xError;
+  stateError(x, ref.x, e);
+  const Eigen::VectorXd& w = terminalWeights_;
   if (node) {
     node->setZero();
     node->Q = w.asDiagonal();

@@ -115,6 +115,7 @@ struct NodeWorkspace : ProblemWorkspace {
   Eigen::VectorXd gradX, gradU;                     ///< scratch: a barrier's gradient
   model::Mat3X<double> axisDx;                      ///< scratch: ∂(a sole's toe-heel line)/∂x
   Eigen::RowVectorXd axisRow;                       ///< scratch: aᵀ axisDx
+  Eigen::VectorXd xError, uError;                   ///< scratch: x − x_ref (yaw wrapped), u − u_ref
 };
 
 class KinodynamicProblem final : public OptimalControlProblem {
@@ -148,14 +149,14 @@ class KinodynamicProblem final : public OptimalControlProblem {
                 const Eigen::VectorXd& u, double dt, NodeValue& value) const override;
   void linearize(ProblemWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
                  const Eigen::VectorXd& u, double dt, LqNode& node, NodeValue& value) const override;
-  double terminalCost(const NodeReference& ref, const Eigen::VectorXd& x,
+  double terminalCost(ProblemWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
                       LqNode* node) const override;
   /// Zero force on a point that became a swing, the reference force on a new stance.
   void adaptInputToMode(const NodeReference& ref, const StanceFlags& before,
                         Eigen::VectorXd& u) const override;
 
-  /// x − x_ref with the yaw difference wrapped.
-  Eigen::VectorXd stateError(const Eigen::VectorXd& x, const Eigen::VectorXd& xRef) const;
+  /// e = x − x_ref with the yaw difference wrapped.
+  void stateError(const Eigen::VectorXd& x, const Eigen::VectorXd& xRef, Eigen::VectorXd& e) const;
 
  private:
   void compute(NodeWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
@@ -168,6 +169,7 @@ class KinodynamicProblem final : public OptimalControlProblem {
   const model::Model& model_;
   std::vector<int> contactFrames_;
   ProblemSettings settings_;
+  Eigen::VectorXd terminalWeights_;  ///< diag(Q_N) = terminalWeightScale · stateWeights
   int nx_, nu_;
   int soles_;  ///< soleMoments(): inputs of the soles' moments, 0 or 2
 };

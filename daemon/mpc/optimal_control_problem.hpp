@@ -59,8 +59,8 @@ class OptimalControlProblem {
                          const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt,
                          LqNode& node, NodeValue& value) const = 0;
   /// Terminal cost, and its quadratic model in node.Q, node.q if node is given.
-  virtual double terminalCost(const NodeReference& ref, const Eigen::VectorXd& x,
-                              LqNode* node) const = 0;
+  virtual double terminalCost(ProblemWorkspace& ws, const NodeReference& ref,
+                              const Eigen::VectorXd& x, LqNode* node) const = 0;
   /// Warm start across a mode change: make u fit ref.stance where it differs from `before`.
   virtual void adaptInputToMode(const NodeReference& /*ref*/, const StanceFlags& /*before*/,
                                 Eigen::VectorXd& /*u*/) const {}

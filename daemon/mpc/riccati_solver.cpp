@@ -6,10 +6,19 @@
 
 namespace ballast::mpc {
 
+namespace {
+// An index list as Eigen's indexed views take it without copying it: a view on a std::vector
+// holds a copy of the vector, one allocation each time it indexes (thousands per solve).
+using IndexList = Eigen::Map<const Eigen::VectorXi>;
+IndexList indices(const std::vector<int>& v) {
+  return IndexList(v.data(), static_cast<Eigen::Index>(v.size()));
+}
+}  // namespace
+
 RiccatiSolver::RiccatiSolver(int horizonNodes, int nx, int nu)
     : N_(horizonNodes), nx_(nx), nu_(nu), proj_(horizonNodes), L_(horizonNodes), G_(horizonNodes),
       g_(horizonNodes), P_(nx, nx), M_(nx, nx + nu), H_(nx + nu, nx + nu), p_(nx), Pb_(nx),
-      y_(nx + nu), w_(nu) {
+      y_(nx + nu), w_(nu), ctDx_(nu), fromDx_(nu), fromW_(nu) {
   for (Projected& p : proj_) {
     for (auto* v : {&p.free, &p.constrained, &p.fixed, &p.general}) v->reserve(nu);
     p.kind.resize(nu);
@@ -52,8 +61,7 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
     (p.kind[j] == kFree ? p.free : p.kind[j] == kFixed ? p.fixed : p.constrained).push_back(j);
 
   const auto& general = p.general;
-  const auto& K = p.constrained;
-  const auto& F = p.free;
+  const IndexList K = indices(p.constrained), F = indices(p.free);
   const int nK = static_cast<int>(K.size());
   const int nF = static_cast<int>(F.size());
   // A general row whose part outside the rows before it is below kDependentBelow of its norm is
@@ -90,7 +98,7 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
   // Qfull = [Y Z_K] from the QR of D_Kᵀ; every product with Y and with Z_K below is taken with
   // Qfull at once (one larger product instead of two small ones), and its parts read from that.
   if (mg > 0) {
-    p.ePrime = n.e(general);
+    p.ePrime = n.e(indices(general));
     for (int r = 0; r < mg; ++r)
       for (int j : p.fixed) p.ePrime[r] += n.D(general[r], j) * p.kc[j];
     const auto pivots = p.qr.matrixQR().diagonal().head(mg).cwiseAbs();
@@ -101,11 +109,12 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
     const auto Rt = p.qr.matrixQR().topLeftCorner(mg, mg).triangularView<Eigen::Upper>().transpose();
     p.Y = p.Qfull.leftCols(mg);
     p.ZK = p.Qfull.rightCols(nz);
-    p.Ct = -n.C(general, Eigen::all);
+    p.Ct = -n.C(indices(general), Eigen::all);
     Rt.solveInPlace(p.Ct);
     p.ct = -p.ePrime;
     Rt.solveInPlace(p.ct);
-    p.kc(K) = p.Y * p.ct;
+    p.Yct.noalias() = p.Y * p.ct;
+    p.kc(K) = p.Yct;
   } else {
     p.Y.resize(nK, 0);
     p.Ct.resize(0, nx_);
@@ -176,11 +185,17 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
 }
 
 void RiccatiSolver::inputStep(const Projected& p, const Eigen::VectorXd& dx, const Eigen::VectorXd& w,
-                              Eigen::VectorXd& du) const {
+                              Eigen::VectorXd& du) {
   const int nF = static_cast<int>(p.free.size());
   du = p.kc;
-  du(p.free) += w.head(nF);
-  du(p.constrained) += p.Y * (p.Ct * dx) + p.ZK * w.segment(nF, p.nw - nF);
+  du(indices(p.free)) += w.head(nF);
+  auto ctDx = ctDx_.head(p.Ct.rows());
+  auto fromDx = fromDx_.head(p.Y.rows());
+  auto fromW = fromW_.head(p.ZK.rows());
+  ctDx.noalias() = p.Ct * dx;
+  fromDx.noalias() = p.Y * ctDx;
+  fromW.noalias() = p.ZK * w.segment(nF, p.nw - nF);
+  du(indices(p.constrained)) += fromDx + fromW;
 }
 
 bool RiccatiSolver::solve(const std::vector<LqNode>& nodes, const Eigen::VectorXd& dx0,

@@ -87,8 +87,8 @@ void SingleRigidBodyProblem::compute(const NodeReference& ref, const Eigen::Vect
                contactForceBarriers(settings_, ref, u, dt, node);
 }
 
-double SingleRigidBodyProblem::terminalCost(const NodeReference& ref, const Eigen::VectorXd& x,
-                                            LqNode* node) const {
+double SingleRigidBodyProblem::terminalCost(ProblemWorkspace& /*ws*/, const NodeReference& ref,
+                                            const Eigen::VectorXd& x, LqNode* node) const {
   return terminalTrackingCost(settings_, ref, x, node);
 }
 

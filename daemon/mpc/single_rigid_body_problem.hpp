@@ -67,7 +67,7 @@ class SingleRigidBodyProblem final : public OptimalControlProblem {
                 const Eigen::VectorXd& u, double dt, NodeValue& value) const override;
   void linearize(ProblemWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
                  const Eigen::VectorXd& u, double dt, LqNode& node, NodeValue& value) const override;
-  double terminalCost(const NodeReference& ref, const Eigen::VectorXd& x,
+  double terminalCost(ProblemWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
                       LqNode* node) const override;
   void adaptInputToMode(const NodeReference& ref, const StanceFlags& before,
                         Eigen::VectorXd& u) const override;

@@ -25,10 +25,13 @@ SqpSolver::SqpSolver(const OptimalControlProblem& problem, const SqpSettings& se
       references_(settings.nodes + 1),
       lq_(settings.nodes + 1, LqNode(problem.nx(), problem.nu(), problem.maxEqualities())),
       values_(settings.nodes),
+      trialValues_(settings.nodes),
       x_(settings.nodes + 1, Eigen::VectorXd::Zero(problem.nx())),
       u_(settings.nodes, Eigen::VectorXd::Zero(problem.nu())),
       xTrial_(x_),
       uTrial_(u_),
+      xSample_(problem.nx()),
+      uSample_(problem.nu()),
       zeroDx0_(Eigen::VectorXd::Zero(problem.nx())),
       nodeCost_(settings.nodes + 1),
       nodeViolation2_(settings.nodes + 1),
@@ -59,13 +62,12 @@ void SqpSolver::warmStart(double t0, const Eigen::VectorXd& xMeasured) {
     return;
   }
   const MpcSolution& prev = solution_;
-  Eigen::VectorXd xs(problem_.nx()), us(problem_.nu());
   for (int k = 0; k <= N; ++k) {
     StanceFlags prevMode;
-    prev.sample(t0 + k * settings_.dt, xs, us, &prevMode);
-    x_[k] = xs;
+    prev.sample(t0 + k * settings_.dt, xSample_, uSample_, &prevMode);
+    x_[k] = xSample_;
     if (k == N) break;
-    u_[k] = us;
+    u_[k] = uSample_;
     problem_.adaptInputToMode(references_[k], prevMode, u_[k]);
   }
   x_[0] = xMeasured;
@@ -77,11 +79,11 @@ SqpSolver::Merit SqpSolver::evaluate(const std::vector<Eigen::VectorXd>& x,
   const double dt = settings_.dt;
   auto body = [&](int k, int thread) {
     if (k == N) {
-      nodeCost_[N] = problem_.terminalCost(references_[N], x[N], nullptr);
+      nodeCost_[N] = problem_.terminalCost(*workspaces_[thread], references_[N], x[N], nullptr);
       nodeViolation2_[N] = 0.0;
       return;
     }
-    NodeValue v;
+    NodeValue& v = trialValues_[k];
     problem_.evaluate(*workspaces_[thread], references_[k], x[k], u[k], dt, v);
     nodeCost_[k] = v.cost;
     nodeViolation2_[k] = v.equalityNorm2 + (x[k] + dt * v.xdot - x[k + 1]).squaredNorm();
@@ -118,7 +120,7 @@ bool SqpSolver::iterate(double t0, const Eigen::VectorXd& xMeasured) {
   // thread takes the backward Riccati sweep over those done (sweepProjected): the sweep, serial,
   // runs behind the projections instead of after them all.
   auto t = Clock::now();
-  const double terminal = problem_.terminalCost(references_[N], x_[N], &lq_[N]);
+  const double terminal = problem_.terminalCost(*workspaces_[0], references_[N], x_[N], &lq_[N]);
   riccati_.beginSweep(lq_[N]);
   sweepNext_ = N - 1;
   sweepOk_ = true;

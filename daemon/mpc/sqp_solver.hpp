@@ -96,8 +96,9 @@ class SqpSolver {
   RiccatiSolver riccati_;
   std::vector<NodeReference> references_;
   std::vector<LqNode> lq_;
-  std::vector<NodeValue> values_;
+  std::vector<NodeValue> values_, trialValues_;  ///< at the iterate; at the line search's trial
   std::vector<Eigen::VectorXd> x_, u_, xTrial_, uTrial_, dx_, du_;
+  Eigen::VectorXd xSample_, uSample_;  ///< warmStart's scratch: the last solution at a node's time
   Eigen::VectorXd zeroDx0_;  ///< the LQ step starts at the measured state: δx₀ = 0
   std::vector<double> nodeCost_, nodeViolation2_;
   std::vector<char> projected_;

@@ -89,7 +89,7 @@ void BM_MpcRiccatiSweep(benchmark::State& st) {
     problem.linearize(*ws, s.ref, s.x, s.u, 0.02, nodes[k], value);
     riccati.project(k, nodes[k]);
   }
-  problem.terminalCost(s.ref, s.x, &nodes[N]);
+  problem.terminalCost(*ws, s.ref, s.x, &nodes[N]);
   std::vector<Eigen::VectorXd> dx, du;
   const Eigen::VectorXd dx0 = Eigen::VectorXd::Zero(s.L.nx());
   for (auto _ : st) benchmark::DoNotOptimize(riccati.sweep(nodes, dx0, dx, du));

@@ -165,7 +165,7 @@ TEST_F(SingleRigidBody, ItsQpIsSolvedToTheKktConditions) {
     problem.linearize(ws, refs[k], x, u, dt, nodes[k], value);
     nodes[k].b = 0.01 * Eigen::VectorXd::NullaryExpr(12, [&] { return d(rng); });  // defects
   }
-  problem.terminalCost(refs[N], refs[N].x, &nodes[N]);
+  problem.terminalCost(ws, refs[N], refs[N].x, &nodes[N]);
   const Eigen::VectorXd dx0 = 0.02 * Eigen::VectorXd::NullaryExpr(12, [&] { return d(rng); });
   std::vector<Eigen::VectorXd> dx, du, dxKkt, duKkt;
   RiccatiSolver riccati(N, 12, 12);
@@ -278,8 +278,9 @@ TEST_F(SingleRigidBody, CostTermsAreTheKinodynamicProblems) {
   EXPECT_TRUE(same(srbdNode.S, kinoNode.S.topLeftCorner(12, 12)));
 
   LqNode kinoTerminal(L.nx(), L.nu(), 0), srbdTerminal(12, 12, 0);
-  const double kinoCost = kino.terminalCost(kinoRef, x, &kinoTerminal);
-  EXPECT_NEAR(srbd.terminalCost(srbdRef, x.head(12), &srbdTerminal), kinoCost, 1e-12 * kinoCost);
+  const double kinoCost = kino.terminalCost(*kinoWs, kinoRef, x, &kinoTerminal);
+  EXPECT_NEAR(srbd.terminalCost(srbdWs, srbdRef, x.head(12), &srbdTerminal), kinoCost,
+              1e-12 * kinoCost);
   EXPECT_TRUE(same(srbdTerminal.Q, kinoTerminal.Q.topLeftCorner(12, 12)));
   EXPECT_TRUE(same(srbdTerminal.q, kinoTerminal.q.head(12)));
 

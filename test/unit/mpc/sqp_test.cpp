@@ -8,6 +8,7 @@
 #include "model/algorithms.hpp"
 #include "mpc/kinodynamic_problem.hpp"
 #include "mpc/sqp_solver.hpp"
+#include "test/unit/allocation_counter.hpp"
 #include "test/unit/mpc/lq_test_problems.hpp"
 #include "test/unit/settings_support.hpp"
 #include "test/unit/test_support.hpp"
@@ -49,7 +50,8 @@ class LinearProblem final : public OptimalControlProblem {
     n.q = dt * Q * (x - ref.x);
     n.r = dt * R * (u - ref.u);
   }
-  double terminalCost(const NodeReference& ref, const Eigen::VectorXd& x, LqNode* n) const override {
+  double terminalCost(ProblemWorkspace& /*ws*/, const NodeReference& ref, const Eigen::VectorXd& x,
+                      LqNode* n) const override {
     if (n) {
       n->setZero();
       n->Q = QN;
@@ -389,6 +391,42 @@ TEST_F(Kinodynamic, TheSolutionIsTheSameOnOneThreadAsOnSeveral) {
         ASSERT_EQ(solutions[i].u[k], solutions[0].u[k]) << "threads " << i + 1 << ", node " << k;
       }
     }
+}
+
+TEST_F(Kinodynamic, AnIterationAllocatesNothingOnceItsNodesHaveTheirSizes) {
+  // The planner runs on a real-time thread: once the first iterations have sized each node's
+  // matrices for its contact mode, an SQP iteration (linearisation, projection, sweep, line
+  // search) allocates nothing. A walking horizon: the left foot swings over the first nodes,
+  // both feet stand over the rest, on soles with width (their moments' equalities too).
+  KinodynamicProblem problem(m, frames, settings(0.1));
+  SqpSettings s = test::controlDefaults().locomotion.sqp;
+  s.nodes = 30;
+  s.dt = 0.02;
+  s.threads = 1;  // the counter watches this thread
+  SqpSolver sqp(problem, s);
+  model::Data<double> d(m);
+  model::forwardKinematics(m, d, qStand);
+  for (int k = 0; k <= s.nodes; ++k) {
+    NodeReference& r = sqp.references()[k];
+    r = standingReference(problem.nu());
+    if (k >= s.nodes / 2) continue;
+    r.stance = {false, false, true, true};
+    for (int c : {0, 1}) {
+      r.u[L.force(c) + 2] = 0.0;
+      r.swingPosition[c] = model::framePlacement(m, d, frames[c]).p + Eigen::Vector3d(0.0, 0.0, 0.03);
+      r.swingVelocity[c] = Eigen::Vector3d(0.0, 0.0, 0.1);
+    }
+  }
+  model::VecX<double> q = qStand;
+  q[1] += 0.02;
+  model::Vec6<double> h;
+  h << 3.0, -2.0, 1.0, 0.5, 0.2, 0.0;
+  const Eigen::VectorXd x0 = stateOf(q, h);
+  for (int it = 0; it < 3; ++it) ASSERT_TRUE(sqp.iterate(0.0, x0)) << sqp.statistics().message;
+  bool ok = false;
+  EXPECT_EQ(test::allocationsIn([&] { ok = sqp.iterate(0.0, x0); }), 0);
+  EXPECT_TRUE(ok) << sqp.statistics().message;
+  EXPECT_GT(sqp.statistics().step, 0.0);  // a step was taken: the line search ran its trials
 }
 
 }  // namespace
