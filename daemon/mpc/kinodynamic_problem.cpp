@@ -344,9 +344,9 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
   value.cost = cost;
 }
 
-double KinodynamicProblem::terminalCost(ProblemWorkspace& workspace, const NodeReference& ref,
+double KinodynamicProblem::terminalCost(ProblemWorkspace& ws, const NodeReference& ref,
                                         const Eigen::VectorXd& x, LqNode* node) const {
-  Eigen::VectorXd& e = static_cast<NodeWorkspace&>(workspace).xError;
+  Eigen::VectorXd& e = static_cast<NodeWorkspace&>(ws).xError;
   stateError(x, ref.x, e);
   const Eigen::VectorXd& w = terminalWeights_;
   if (node) {

@@ -18,7 +18,7 @@ IndexList indices(const std::vector<int>& v) {
 RiccatiSolver::RiccatiSolver(int horizonNodes, int nx, int nu)
     : N_(horizonNodes), nx_(nx), nu_(nu), proj_(horizonNodes), L_(horizonNodes), G_(horizonNodes),
       g_(horizonNodes), P_(nx, nx), M_(nx, nx + nu), H_(nx + nu, nx + nu), p_(nx), Pb_(nx),
-      y_(nx + nu), w_(nu), ctDx_(nu), fromDx_(nu), fromW_(nu) {
+      y_(nx + nu), w_(nu), CtDx_(nu), KcDx_(nu), ZKw_(nu) {
   for (Projected& p : proj_) {
     for (auto* v : {&p.free, &p.constrained, &p.fixed, &p.general}) v->reserve(nu);
     p.kind.resize(nu);
@@ -113,8 +113,8 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
     Rt.solveInPlace(p.Ct);
     p.ct = -p.ePrime;
     Rt.solveInPlace(p.ct);
-    p.Yct.noalias() = p.Y * p.ct;
-    p.kc(K) = p.Yct;
+    p.kcK.noalias() = p.Y * p.ct;
+    p.kc(K) = p.kcK;
   } else {
     p.Y.resize(nK, 0);
     p.Ct.resize(0, nx_);
@@ -189,13 +189,14 @@ void RiccatiSolver::inputStep(const Projected& p, const Eigen::VectorXd& dx, con
   const int nF = static_cast<int>(p.free.size());
   du = p.kc;
   du(indices(p.free)) += w.head(nF);
-  auto ctDx = ctDx_.head(p.Ct.rows());
-  auto fromDx = fromDx_.head(p.Y.rows());
-  auto fromW = fromW_.head(p.ZK.rows());
-  ctDx.noalias() = p.Ct * dx;
-  fromDx.noalias() = p.Y * ctDx;
-  fromW.noalias() = p.ZK * w.segment(nF, p.nw - nF);
-  du(indices(p.constrained)) += fromDx + fromW;
+  // δu_K += Kc_K δx + Z_K w_K, with Kc_K δx = Y (Ct δx).
+  auto CtDx = CtDx_.head(p.Ct.rows());
+  auto KcDx = KcDx_.head(p.Y.rows());
+  auto ZKw = ZKw_.head(p.ZK.rows());
+  CtDx.noalias() = p.Ct * dx;
+  KcDx.noalias() = p.Y * CtDx;
+  ZKw.noalias() = p.ZK * w.segment(nF, p.nw - nF);
+  du(indices(p.constrained)) += KcDx + ZKw;
 }
 
 bool RiccatiSolver::solve(const std::vector<LqNode>& nodes, const Eigen::VectorXd& dx0,

@@ -82,7 +82,7 @@ class RiccatiSolver {
     int nw = 0;
     // Scratch of this node's projection (kept to reuse the memory).
     Eigen::MatrixXd DKt, Qfull, BK, BQ, RKK, RQ, T, SK, QtSK, RFK, RFY, CW, WC;
-    Eigen::VectorXd ePrime, Rkc, rK, ct, Yct, qWork;
+    Eigen::VectorXd ePrime, Rkc, rK, ct, kcK, qWork;
     Eigen::HouseholderQR<Eigen::MatrixXd> qr;
   };
   /// δu for a state deviation and w (step 1 undone).
@@ -97,7 +97,7 @@ class RiccatiSolver {
   std::vector<Eigen::VectorXd> g_;
   Eigen::MatrixXd P_, M_, H_;
   Eigen::VectorXd p_, Pb_, y_, w_;
-  Eigen::VectorXd ctDx_, fromDx_, fromW_;  ///< inputStep's scratch (nu each)
+  Eigen::VectorXd CtDx_, KcDx_, ZKw_;  ///< inputStep's scratch (nu each)
   RiccatiTimings timings_;
 };
 
