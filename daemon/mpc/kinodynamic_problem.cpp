@@ -6,6 +6,7 @@
 #include <string>
 
 #include "model/centroidal_dynamics_derivatives.hpp"
+#include "mpc/tracking_cost.hpp"
 
 namespace ballast::mpc {
 
@@ -52,15 +53,6 @@ void KinodynamicProblem::setSettings(const ProblemSettings& s) {
     throw std::invalid_argument("kino-dynamic problem: line feet and soles with width are different problems");
   settings_ = s;
   terminalWeights_ = s.terminalWeightScale * s.stateWeights;
-}
-
-void KinodynamicProblem::stateError(const Eigen::VectorXd& x, const Eigen::VectorXd& xRef,
-                                    Eigen::VectorXd& e) const {
-  e = x - xRef;
-  for (int k = 0; k < 3; ++k) {
-    double& a = e[CentroidalLayout::kBaseZyx + k];
-    a = std::remainder(a, 2.0 * M_PI);
-  }
 }
 
 void KinodynamicProblem::evaluate(ProblemWorkspace& ws, const NodeReference& ref,

@@ -155,9 +155,6 @@ class KinodynamicProblem final : public OptimalControlProblem {
   void adaptInputToMode(const NodeReference& ref, const StanceFlags& before,
                         Eigen::VectorXd& u) const override;
 
-  /// e = x − x_ref with the yaw difference wrapped.
-  void stateError(const Eigen::VectorXd& x, const Eigen::VectorXd& xRef, Eigen::VectorXd& e) const;
-
  private:
   void compute(NodeWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
                const Eigen::VectorXd& u, double dt, LqNode* node, NodeValue& value) const;

@@ -41,19 +41,19 @@ void SingleRigidBodyProblem::dynamics(const NodeReference& ref, const Eigen::Vec
   xdot.noalias() += F * x;
 }
 
-void SingleRigidBodyProblem::evaluate(ProblemWorkspace&, const NodeReference& ref,
+void SingleRigidBodyProblem::evaluate(ProblemWorkspace& ws, const NodeReference& ref,
                                       const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt,
                                       NodeValue& value) const {
-  compute(ref, x, u, dt, nullptr, value);
+  compute(static_cast<TrackingWorkspace&>(ws), ref, x, u, dt, nullptr, value);
 }
 
-void SingleRigidBodyProblem::linearize(ProblemWorkspace&, const NodeReference& ref,
+void SingleRigidBodyProblem::linearize(ProblemWorkspace& ws, const NodeReference& ref,
                                        const Eigen::VectorXd& x, const Eigen::VectorXd& u,
                                        double dt, LqNode& node, NodeValue& value) const {
-  compute(ref, x, u, dt, &node, value);
+  compute(static_cast<TrackingWorkspace&>(ws), ref, x, u, dt, &node, value);
 }
 
-void SingleRigidBodyProblem::compute(const NodeReference& ref, const Eigen::VectorXd& x,
+void SingleRigidBodyProblem::compute(TrackingWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
                                      const Eigen::VectorXd& u, double dt, LqNode* node,
                                      NodeValue& value) const {
   Eigen::Matrix<double, 12, 12> F, G;
@@ -83,13 +83,13 @@ void SingleRigidBodyProblem::compute(const NodeReference& ref, const Eigen::Vect
     node->A.noalias() += dt * F;
     node->B.noalias() = dt * G;
   }
-  value.cost = trackingCost(settings_, ref, x, u, dt, node) +
+  value.cost = trackingCost(settings_, ws, ref, x, u, dt, node) +
                contactForceBarriers(settings_, ref, u, dt, node);
 }
 
-double SingleRigidBodyProblem::terminalCost(ProblemWorkspace& /*ws*/, const NodeReference& ref,
+double SingleRigidBodyProblem::terminalCost(ProblemWorkspace& ws, const NodeReference& ref,
                                             const Eigen::VectorXd& x, LqNode* node) const {
-  return terminalTrackingCost(settings_, ref, x, node);
+  return terminalTrackingCost(settings_, static_cast<TrackingWorkspace&>(ws), ref, x, node);
 }
 
 void SingleRigidBodyProblem::adaptInputToMode(const NodeReference& ref, const StanceFlags& before,

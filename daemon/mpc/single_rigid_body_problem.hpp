@@ -58,7 +58,7 @@ class SingleRigidBodyProblem final : public OptimalControlProblem {
   int nu() const override { return kInputSize; }
   int maxEqualities() const override { return 3 * kNumContacts; }
   std::unique_ptr<ProblemWorkspace> makeWorkspace() const override {
-    return std::make_unique<ProblemWorkspace>();
+    return std::make_unique<TrackingWorkspace>(kStateSize, kInputSize);
   }
   const RigidBody& body() const { return body_; }
   const ProblemSettings& settings() const { return settings_; }
@@ -78,8 +78,8 @@ class SingleRigidBodyProblem final : public OptimalControlProblem {
                 Eigen::Matrix<double, 12, 12>& G) const;
 
  private:
-  void compute(const NodeReference& ref, const Eigen::VectorXd& x, const Eigen::VectorXd& u,
-               double dt, LqNode* node, NodeValue& value) const;
+  void compute(TrackingWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
+               const Eigen::VectorXd& u, double dt, LqNode* node, NodeValue& value) const;
 
   RigidBody body_;
   Eigen::Matrix3d inertiaInverse_;  ///< body_.inertia⁻¹, base frame

@@ -8,19 +8,20 @@ namespace ballast::mpc {
 
 using model::CentroidalLayout;
 
-Eigen::VectorXd wrappedStateError(const Eigen::VectorXd& x, const Eigen::VectorXd& xRef) {
-  Eigen::VectorXd e = x - xRef;
+void stateError(const Eigen::VectorXd& x, const Eigen::VectorXd& xRef, Eigen::VectorXd& e) {
+  e = x - xRef;
   for (int k = 0; k < 3; ++k) {
     double& a = e[CentroidalLayout::kBaseZyx + k];
     a = std::remainder(a, 2.0 * M_PI);
   }
-  return e;
 }
 
-double trackingCost(const ProblemSettings& s, const NodeReference& ref, const Eigen::VectorXd& x,
-                    const Eigen::VectorXd& u, double dt, LqNode* node) {
-  const Eigen::VectorXd ex = wrappedStateError(x, ref.x);
-  const Eigen::VectorXd eu = u - ref.u;
+double trackingCost(const ProblemSettings& s, TrackingWorkspace& ws, const NodeReference& ref,
+                    const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt, LqNode* node) {
+  stateError(x, ref.x, ws.xError);
+  ws.uError = u - ref.u;
+  const Eigen::VectorXd& ex = ws.xError;
+  const Eigen::VectorXd& eu = ws.uError;
   if (node) {
     node->Q = (dt * s.stateWeights).asDiagonal();
     node->R = (dt * s.inputWeights).asDiagonal();
@@ -54,10 +55,12 @@ double contactForceBarriers(const ProblemSettings& s, const NodeReference& ref,
   return cost;
 }
 
-double terminalTrackingCost(const ProblemSettings& s, const NodeReference& ref,
-                            const Eigen::VectorXd& x, LqNode* node) {
-  const Eigen::VectorXd e = wrappedStateError(x, ref.x);
-  const Eigen::VectorXd w = s.terminalWeightScale * s.stateWeights;
+double terminalTrackingCost(const ProblemSettings& s, TrackingWorkspace& ws,
+                            const NodeReference& ref, const Eigen::VectorXd& x, LqNode* node) {
+  stateError(x, ref.x, ws.xError);
+  ws.terminalWeights = s.terminalWeightScale * s.stateWeights;
+  const Eigen::VectorXd& e = ws.xError;
+  const Eigen::VectorXd& w = ws.terminalWeights;
   if (node) {
     node->setZero();
     node->Q = w.asDiagonal();

@@ -1,7 +1,8 @@
 // A counting malloc (and free) for the "the 1 kHz path allocates nothing" tests. glibc lets a program
 // interpose malloc; operator new and Eigen both allocate through it. Only the thread that sets
 // `counting` is watched (a planner or writer thread beside it may allocate freely).
-// Include this header in exactly one source file of a test executable: it defines malloc.
+// It defines malloc: in a test executable with several source files that count, the others
+// define BALLAST_ALLOCATION_COUNTER_ELSEWHERE before including it.
 #pragma once
 
 #include <atomic>
@@ -12,6 +13,7 @@ inline thread_local bool counting = false;
 inline std::atomic<long> count{0}, frees{0};
 }  // namespace ballast::test::allocation
 
+#ifndef BALLAST_ALLOCATION_COUNTER_ELSEWHERE
 extern "C" void* __libc_malloc(std::size_t);
 extern "C" void* malloc(std::size_t n) {
   if (ballast::test::allocation::counting) ballast::test::allocation::count.fetch_add(1);
@@ -22,6 +24,7 @@ extern "C" void free(void* p) {
   if (p && ballast::test::allocation::counting) ballast::test::allocation::frees.fetch_add(1);
   __libc_free(p);
 }
+#endif
 
 namespace ballast::test {
 

@@ -13,6 +13,8 @@
 #include "mpc/riccati_solver.hpp"
 #include "mpc/single_rigid_body_problem.hpp"
 #include "mpc/sqp_solver.hpp"
+#define BALLAST_ALLOCATION_COUNTER_ELSEWHERE  // sqp_test.cpp defines the counting malloc
+#include "test/unit/allocation_counter.hpp"
 #include "test/unit/mpc/lq_test_problems.hpp"
 #include "test/unit/settings_support.hpp"
 #include "test/unit/test_support.hpp"
@@ -65,7 +67,8 @@ TEST_F(SingleRigidBody, IsTheCentroidalDynamicsOfARobotWhoseLimbsDoNotMove) {
     ref.u = Eigen::VectorXd::Zero(12);
     for (int c = 0; c < kNumContacts; ++c)
       ref.contactPosition[c] = model::framePlacement(m, data, frames[c]).p;
-    ProblemWorkspace ws;
+    const auto workspace = problem.makeWorkspace();
+    ProblemWorkspace& ws = *workspace;
     NodeValue value;
     problem.evaluate(ws, ref, x.head(12), uFull.head(12), 0.02, value);
     EXPECT_LT((value.xdot - kino.head(12)).cwiseAbs().maxCoeff(),
@@ -98,7 +101,8 @@ TEST_F(SingleRigidBody, LinearizationIsTheDynamicsAndItsCostDerivatives) {
   Eigen::VectorXd x = ref.x + 0.1 * Eigen::VectorXd::NullaryExpr(12, [&] { return d(rng); });
   Eigen::VectorXd u = ref.u + 20.0 * Eigen::VectorXd::NullaryExpr(12, [&] { return d(rng); });
   const double dt = 0.02;
-  ProblemWorkspace ws;
+  const auto workspace = problem.makeWorkspace();
+  ProblemWorkspace& ws = *workspace;
   LqNode node(12, 12, problem.maxEqualities());
   NodeValue value, probe;
   problem.linearize(ws, ref, x, u, dt, node, value);
@@ -157,7 +161,8 @@ TEST_F(SingleRigidBody, ItsQpIsSolvedToTheKktConditions) {
   std::mt19937 rng(8);
   std::uniform_real_distribution<double> d(-1.0, 1.0);
   std::vector<LqNode> nodes(N + 1, LqNode(12, 12, problem.maxEqualities()));
-  ProblemWorkspace ws;
+  const auto workspace = problem.makeWorkspace();
+  ProblemWorkspace& ws = *workspace;
   NodeValue value;
   for (int k = 0; k < N; ++k) {
     const Eigen::VectorXd x = refs[k].x + 0.05 * Eigen::VectorXd::NullaryExpr(12, [&] { return d(rng); });
@@ -191,7 +196,8 @@ TEST_F(SingleRigidBody, SqpIterationsMeetTheDynamicsAndConvergeInsideTheCone) {
   for (int k = 0; k <= s.nodes; ++k) sqp.references()[k] = refs[k];
   Eigen::VectorXd x0 = refs[0].x;
   x0[CentroidalLayout::kBasePosition + 1] += 0.03;  // off to the side: it has to come back
-  ProblemWorkspace ws;
+  const auto workspace = problem.makeWorkspace();
+  ProblemWorkspace& ws = *workspace;
   NodeValue value;
   std::vector<Eigen::VectorXd> before;
   for (int iteration = 0; iteration < 30; ++iteration) {
@@ -221,6 +227,25 @@ TEST_F(SingleRigidBody, SqpIterationsMeetTheDynamicsAndConvergeInsideTheCone) {
       EXPECT_GT(p.frictionCoefficient * f.z() - f.head<2>().norm(), -p.frictionBarrier.delta)
           << "node " << k << " point " << c << ": " << f.transpose();
     }
+}
+
+TEST_F(SingleRigidBody, AnIterationAllocatesNothingOnceItsNodesHaveTheirSizes) {
+  // As the kino-dynamic problem's (sqp_test.cpp): the cI planner runs on the same real-time
+  // thread, so once the first iterations have sized the nodes an SQP iteration allocates nothing.
+  SingleRigidBodyProblem problem(body, settings());
+  SqpSettings s = test::controlDefaults().locomotion.sqp;
+  s.nodes = 30;
+  s.dt = 0.02;
+  s.threads = 1;  // the counter watches this thread
+  SqpSolver sqp(problem, s);
+  const auto refs = walkingReferences(body, qStand.head<3>(), s.nodes, s.dt);
+  for (int k = 0; k <= s.nodes; ++k) sqp.references()[k] = refs[k];
+  Eigen::VectorXd x0 = refs[0].x;
+  x0[CentroidalLayout::kBasePosition + 1] += 0.03;
+  for (int it = 0; it < 3; ++it) ASSERT_TRUE(sqp.iterate(0.0, x0)) << sqp.statistics().message;
+  bool ok = false;
+  EXPECT_EQ(test::allocationsIn([&] { ok = sqp.iterate(0.0, x0); }), 0);
+  EXPECT_TRUE(ok) << sqp.statistics().message;
 }
 
 // The cost terms the two problems share are computed twice (tracking_cost.hpp says why): on a
@@ -260,7 +285,8 @@ TEST_F(SingleRigidBody, CostTermsAreTheKinodynamicProblems) {
 
   const double dt = 0.02;
   auto kinoWs = kino.makeWorkspace();
-  ProblemWorkspace srbdWs;
+  const auto srbdWorkspace = srbd.makeWorkspace();
+  ProblemWorkspace& srbdWs = *srbdWorkspace;
   LqNode kinoNode(L.nx(), L.nu(), kino.maxEqualities()), srbdNode(12, 12, srbd.maxEqualities());
   NodeValue kinoValue, srbdValue;
   kino.linearize(*kinoWs, kinoRef, x, u, dt, kinoNode, kinoValue);
