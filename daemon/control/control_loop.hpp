@@ -112,6 +112,8 @@ class ControlLoop {
   // ---- control thread, between ticks (lockstep tests and tools) ----
   /// The state estimator's seat: its filter's output of the last tick.
   const LoopEstimator& estimator() const { return estimator_; }
+  /// The plan in force (the last valid one; PlannerOutput::valid false before the first).
+  const PlannerOutput& plan() const { return plan_; }
 
   // ---- control thread ----
   /// Ticks until stop is set, then damps for shutdown_ticks and stops the backend. An exception

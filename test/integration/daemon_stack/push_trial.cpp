@@ -14,8 +14,10 @@
 namespace ballast::test {
 namespace {
 
-/// One line of the trace: the true base, the estimated contacts and push, and where the feet
-/// are (the middle of each foot's contact points from the true base and the measured joints).
+/// One line of the trace: the true base, the estimated contacts and push, where the feet are
+/// (the middle of each foot's contact points from the true base and the measured joints), and
+/// in the plan in force each foot's next foothold (x, y, world) and its touch-down time, "-"
+/// for a foot with no swing ahead in the plan.
 void traceLine(std::FILE* out, const DaemonStack& robot, const control::LoopStatus& s,
                bool pushing) {
   const control::BaseState& b = s.truth;
@@ -42,6 +44,21 @@ void traceLine(std::FILE* out, const DaemonStack& robot, const control::LoopStat
                b.rpy[1], b.rpy[2], s.contacts[0], s.contacts[1], s.contacts[2], s.contacts[3],
                s.external_force[0], s.external_force[1], feet[0].x(), feet[0].y(), feet[0].z(),
                tilt[0], feet[1].x(), feet[1].y(), feet[1].z(), tilt[1]);
+  const control::PlannerOutput& planned = robot.loop().plan();
+  std::fprintf(out, "        next");
+  for (int foot = 0; foot < 2; ++foot) {
+    const gait::SwingPlanner& swings = planned.plan.swings;
+    const int c = 2 * foot;  // toe and heel of a foot share its swing and its foothold
+    const gait::SwingTrajectory* next = nullptr;
+    for (int i = 0; planned.valid && i < swings.swingCount(c) && !next; ++i)
+      if (swings.swing(c, i).touchDown > s.t) next = &swings.swing(c, i);
+    if (next)
+      std::fprintf(out, "  %s %7.3f %7.3f @ %7.3f", foot == 0 ? "L" : "R", next->foothold.x(),
+                   next->foothold.y(), next->touchDown);
+    else
+      std::fprintf(out, "  %s -", foot == 0 ? "L" : "R");
+  }
+  std::fprintf(out, "\n");
   // Joints within 0.03 rad of a limit.
   for (int j = 0; j < m.nj() && j < s.num_joints; ++j) {
     const double lo = m.lowerPositionLimit[j], hi = m.upperPositionLimit[j];
