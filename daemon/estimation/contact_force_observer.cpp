@@ -51,6 +51,7 @@ ContactForceObserver::ContactForceObserver(const model::Model& model,
 }
 
 void ContactForceObserver::update(const model::Data<double>& data, const Eigen::VectorXd& v,
+                                  const Eigen::VectorXd& jointPositions,
                                   const Eigen::VectorXd& tau, double dt, double bandwidth) {
   const double alpha = std::min(bandwidth * dt, 1.0);
   const bool first = !started_;
@@ -74,6 +75,13 @@ void ContactForceObserver::update(const model::Data<double>& data, const Eigen::
     ChainMatrix A(n, m);
     ChainVector b(n);
     for (int a = 0; a < n; ++a) {
+      const int j = foot.chain[a] - 6;
+      if (jointPositions[j] < model_.lowerPositionLimit[j] ||
+          jointPositions[j] > model_.upperPositionLimit[j]) {
+        A.row(a).setZero();  // on its stop (header)
+        b[a] = 0.0;
+        continue;
+      }
       b[a] = increment_[foot.chain[a]];
       for (int p = 0; p < static_cast<int>(foot.points.size()); ++p)
         A.block<1, 3>(a, 3 * p) = Jc_[foot.points[p]].col(foot.chain[a]).transpose();

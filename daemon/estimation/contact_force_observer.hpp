@@ -17,6 +17,11 @@
 // lagged J(t − 1/K)ᵀF with J(t): a stance leg turning at v/L about its foot turns the weight by
 // (v/L)/K, a forward force of m·g·(v/L)/K on the stance foot (23-25 N walking at 1.5 m/s,
 // 62 kg, K 50/s), which the external force observer reads as a push against the walk.
+// A joint past its position limit rests on its stop, whose torque the motor does not measure:
+// its row would read that torque as a contact force (an ankle 0.17 rad into its stop at the
+// simulation's 1000 N·m/rad: 170 N·m, several hundred N on a swing foot, which the external
+// force observer then reports as a push). Its row is left out of its foot's least squares while
+// it is past the limit; the foot's other joints still carry the force.
 // Cost: the rows of M and n on the legs' joints (the caller runs crba and nonLinearEffects)
 // and one small regularised least squares per foot.
 //
@@ -55,9 +60,11 @@ class ContactForceObserver {
 
   /// One step. `data` holds crba(q) (M) and nonLinearEffects(q, v) (nle) for the same q and v,
   /// with the base at any position and its true orientation (forces come out in world axes).
-  /// v: generalised velocity (nv); tau: measured joint torques (nj, model order); bandwidth: K.
-  void update(const model::Data<double>& data, const Eigen::VectorXd& v, const Eigen::VectorXd& tau,
-              double dt, double bandwidth);
+  /// v: generalised velocity (nv); jointPositions, tau: measured joint positions and torques
+  /// (nj, model order); bandwidth: K.
+  void update(const model::Data<double>& data, const Eigen::VectorXd& v,
+              const Eigen::VectorXd& jointPositions, const Eigen::VectorXd& tau, double dt,
+              double bandwidth);
 
   /// Estimated force on the robot at contact point i, world frame, N.
   const Eigen::Vector3d& force(int i) const { return force_[i]; }

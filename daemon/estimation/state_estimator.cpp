@@ -182,7 +182,7 @@ EstimatorStatus StateEstimator::update(const EstimatorInput& in, EstimatorOutput
   if (!started_) initialiseFilter(in);
 
   // 3. Contact: the schedule, confirmed by the estimated normal force on the point's foot.
-  observer_.update(data_, v_, in.tau, dt, s.contactForceBandwidth);
+  observer_.update(data_, v_, in.q, in.tau, dt, s.contactForceBandwidth);
   {
     // The robot's linear momentum: (M v)[0:3] is it in base axes.
     Vector3d forces = Vector3d::Zero();

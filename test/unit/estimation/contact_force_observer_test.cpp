@@ -54,7 +54,7 @@ TEST(ContactForceObserver, StaticForcesRecovered) {
     model::Data<double> d(m);
     prepare(m, d, q, v);
     ContactForceObserver obs(m, contactFrames(m));
-    obs.update(d, v, tau, 0.001, 50.0);
+    obs.update(d, v, q.tail(m.nj()), tau, 0.001, 50.0);
     for (int foot = 0; foot < 2; ++foot) {
       // Per foot, the total force is observable, and the error on each point lies along the
       // toe–heel line (equal and opposite: the internal force the joints cannot feel).
@@ -108,7 +108,7 @@ TEST(ContactForceObserver, SwingLegInertiaIsNotAContactForce) {
       tau[j] += 0.5 * noise(rng);
     }
     prepare(m, d, q, vMeasured);
-    obs.update(d, vMeasured, tau, dt, 50.0);
+    obs.update(d, vMeasured, q.tail(m.nj()), tau, dt, 50.0);
     if (t < 0.5) continue;  // 25 observer time constants
     worstLeft = std::max(worstLeft, std::max(obs.force(0).norm(), obs.force(1).norm()));
     sumLeft2 += (obs.force(0) + obs.force(1)).squaredNorm();
@@ -116,7 +116,7 @@ TEST(ContactForceObserver, SwingLegInertiaIsNotAContactForce) {
     worstRight = std::max({worstRight, std::abs(obs.force(2).z() - 300), std::abs(obs.force(3).z() - 300)});
     // The static estimate at this instant, from a fresh observer (r = n − τ).
     ContactForceObserver fresh(m, contactFrames(m));
-    fresh.update(d, vMeasured, tau, dt, 50.0);
+    fresh.update(d, vMeasured, q.tail(m.nj()), tau, dt, 50.0);
     worstStatic = std::max(worstStatic, std::max(fresh.force(0).norm(), fresh.force(1).norm()));
   }
   std::printf("swing foot: observer RMS %.1f N, max %.1f N, static estimate max %.1f N; stance "
@@ -157,7 +157,7 @@ TEST(ContactForceObserver, ATurningStanceLegDoesNotTiltItsForce) {
     }
     const VectorXd tau = torques(m, q, v, a, F);
     prepare(m, d, q, v);
-    obs.update(d, v, tau, dt, 50.0);
+    obs.update(d, v, q.tail(m.nj()), tau, dt, 50.0);
     if (t < 0.1) continue;  // 5 observer time constants
     const Vector3d left = obs.footForce(0);
     worstHorizontal = std::max(worstHorizontal, left.head<2>().norm());
@@ -167,6 +167,39 @@ TEST(ContactForceObserver, ATurningStanceLegDoesNotTiltItsForce) {
               worstHorizontal, worstVertical);
   EXPECT_LT(worstHorizontal, 1.0);
   EXPECT_LT(worstVertical, 1.0);
+}
+
+TEST(ContactForceObserver, AJointOnItsStopIsNotAContactForce) {
+  // The right foot stands (300 N on each point); the left foot swings free with its ankle pitch
+  // 0.1 rad past its lower limit, where the stop holds it with 100 N·m that the motor's torque
+  // does not include. The swing foot must read ~0, not the stop's torque over the ankle's lever;
+  // the stance foot, whose joints are within their limits, its 600 N. With the ankle back inside
+  // its limit the same torque error is read as a force again (the row is only left out on the
+  // stop).
+  const model::Model& m = humanoid();
+  const int ankle = m.jointId("left_ankle_pitch");
+  const int j = model::Model::vIndexOfJoint(ankle) - 6;
+  const std::array<Vector3d, kContactPoints> F{Vector3d::Zero(), Vector3d::Zero(),
+                                               Vector3d(0, 0, 300), Vector3d(0, 0, 300)};
+  const VectorXd v = VectorXd::Zero(m.nv), a = VectorXd::Zero(m.nv);
+  auto leftFootForce = [&](double ankleAngle, Vector3d& right) {
+    VectorXd q = standingConfiguration(m);
+    q[7 + j] = ankleAngle;
+    VectorXd tau = torques(m, q, v, a, F);
+    tau[j] -= 100.0;  // the stop's 100 N·m pushes the ankle back up; the motor supplies the rest
+    model::Data<double> d(m);
+    prepare(m, d, q, v);
+    ContactForceObserver obs(m, contactFrames(m));
+    obs.update(d, v, q.tail(m.nj()), tau, 0.001, 50.0);
+    right = obs.footForce(2);
+    return obs.footForce(0).norm();
+  };
+  Vector3d right;
+  const double onStop = leftFootForce(m.lowerPositionLimit[j] - 0.1, right);
+  std::printf("swing foot with its ankle on the stop: %.2f N\n", onStop);
+  EXPECT_LT(onStop, 1.0);
+  EXPECT_LT((right - Vector3d(0, 0, 600)).norm(), 0.05);
+  EXPECT_GT(leftFootForce(m.lowerPositionLimit[j] + 0.1, right), 100.0);
 }
 
 }  // namespace
