@@ -10,7 +10,10 @@ using model::CentroidalLayout;
 using model::skew;
 
 SingleRigidBodyProblem::SingleRigidBodyProblem(const RigidBody& body, const ProblemSettings& settings)
-    : body_(body), inertiaInverse_(body.inertia.inverse()), settings_(settings) {}
+    : body_(body),
+      inertiaInverse_(body.inertia.inverse()),
+      settings_(settings),
+      terminalWeights_(settings.terminalWeightScale * settings.stateWeights) {}
 
 void SingleRigidBodyProblem::dynamics(const NodeReference& ref, const Eigen::VectorXd& x,
                                       const Eigen::VectorXd& u, Eigen::Matrix<double, 12, 1>& xdot,
@@ -53,9 +56,9 @@ void SingleRigidBodyProblem::linearize(ProblemWorkspace& ws, const NodeReference
   compute(static_cast<TrackingWorkspace&>(ws), ref, x, u, dt, &node, value);
 }
 
-void SingleRigidBodyProblem::compute(TrackingWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
-                                     const Eigen::VectorXd& u, double dt, LqNode* node,
-                                     NodeValue& value) const {
+void SingleRigidBodyProblem::compute(TrackingWorkspace& ws, const NodeReference& ref,
+                                     const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt,
+                                     LqNode* node, NodeValue& value) const {
   Eigen::Matrix<double, 12, 12> F, G;
   Eigen::Matrix<double, 12, 1> xdot;
   dynamics(ref, x, u, xdot, F, G);
@@ -89,7 +92,7 @@ void SingleRigidBodyProblem::compute(TrackingWorkspace& ws, const NodeReference&
 
 double SingleRigidBodyProblem::terminalCost(ProblemWorkspace& ws, const NodeReference& ref,
                                             const Eigen::VectorXd& x, LqNode* node) const {
-  return terminalTrackingCost(settings_, static_cast<TrackingWorkspace&>(ws), ref, x, node);
+  return terminalTrackingCost(terminalWeights_, static_cast<TrackingWorkspace&>(ws), ref, x, node);
 }
 
 void SingleRigidBodyProblem::adaptInputToMode(const NodeReference& ref, const StanceFlags& before,

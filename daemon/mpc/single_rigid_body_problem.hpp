@@ -84,6 +84,7 @@ class SingleRigidBodyProblem final : public OptimalControlProblem {
   RigidBody body_;
   Eigen::Matrix3d inertiaInverse_;  ///< body_.inertia⁻¹, base frame
   ProblemSettings settings_;
+  Eigen::VectorXd terminalWeights_;  ///< diag(Q_N) = terminalWeightScale · stateWeights
 };
 
 }  // namespace ballast::mpc

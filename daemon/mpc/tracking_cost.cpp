@@ -55,12 +55,11 @@ double contactForceBarriers(const ProblemSettings& s, const NodeReference& ref,
   return cost;
 }
 
-double terminalTrackingCost(const ProblemSettings& s, TrackingWorkspace& ws,
+double terminalTrackingCost(const Eigen::VectorXd& terminalWeights, TrackingWorkspace& ws,
                             const NodeReference& ref, const Eigen::VectorXd& x, LqNode* node) {
   stateError(x, ref.x, ws.xError);
-  ws.terminalWeights = s.terminalWeightScale * s.stateWeights;
   const Eigen::VectorXd& e = ws.xError;
-  const Eigen::VectorXd& w = ws.terminalWeights;
+  const Eigen::VectorXd& w = terminalWeights;
   if (node) {
     node->setZero();
     node->Q = w.asDiagonal();

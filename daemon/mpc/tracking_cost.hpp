@@ -32,10 +32,9 @@ void stateError(const Eigen::VectorXd& x, const Eigen::VectorXd& xRef, Eigen::Ve
 /// Scratch for the tracking terms, sized by the problem (nx, nu) so that a node's costs do not
 /// allocate on the planner's thread.
 struct TrackingWorkspace : ProblemWorkspace {
-  TrackingWorkspace(int nx, int nu) : xError(nx), uError(nu), terminalWeights(nx) {}
-  Eigen::VectorXd xError;           ///< x − x_ref (ZYX wrapped)
-  Eigen::VectorXd uError;           ///< u − u_ref
-  Eigen::VectorXd terminalWeights;  ///< terminalWeightScale · diag(Q)
+  TrackingWorkspace(int nx, int nu) : xError(nx), uError(nu) {}
+  Eigen::VectorXd xError;  ///< x − x_ref (ZYX wrapped)
+  Eigen::VectorXd uError;  ///< u − u_ref
 };
 
 /// ½ dt (‖x − x_ref‖²_Q + ‖u − u_ref‖²_R); with a node, its Q, R, q, r (S zeroed).
@@ -47,8 +46,9 @@ double trackingCost(const ProblemSettings& s, TrackingWorkspace& ws, const NodeR
 double contactForceBarriers(const ProblemSettings& s, const NodeReference& ref,
                             const Eigen::VectorXd& u, double dt, LqNode* node);
 
-/// ½‖x − x_ref‖² weighted by terminalWeightScale · Q; with a node, its Q and q (rest zeroed).
-double terminalTrackingCost(const ProblemSettings& s, TrackingWorkspace& ws,
+/// ½‖x − x_ref‖² weighted by terminalWeights (the problem's terminalWeightScale · diag(Q), set
+/// once with its settings); with a node, its Q and q (rest zeroed).
+double terminalTrackingCost(const Eigen::VectorXd& terminalWeights, TrackingWorkspace& ws,
                             const NodeReference& ref, const Eigen::VectorXd& x, LqNode* node);
 
 /// Zero force on a point that became a swing, the reference force on a new stance.
