@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <utility>
 
 namespace ballast::mpc {
 
@@ -16,18 +17,58 @@ IndexList indices(const std::vector<int>& v) {
 }  // namespace
 
 RiccatiSolver::RiccatiSolver(int horizonNodes, int nx, int nu)
-    : N_(horizonNodes), nx_(nx), nu_(nu), proj_(horizonNodes), L_(horizonNodes), G_(horizonNodes),
+    : N_(horizonNodes), nx_(nx), nu_(nu), proj_(horizonNodes), spares_(horizonNodes),
+      L_(horizonNodes), G_(horizonNodes),
       g_(horizonNodes), P_(nx, nx), M_(nx, nx + nu), H_(nx + nu, nx + nu), p_(nx), Pb_(nx),
       y_(nx + nu), w_(nu), CtDx_(nu), KcDx_(nu), ZKw_(nu) {
-  for (Projected& p : proj_) {
+  for (int k = 0; k < N_; ++k) {
+    Projected& p = proj_[k];
     for (auto* v : {&p.free, &p.constrained, &p.fixed, &p.general}) v->reserve(nu);
     p.kind.resize(nu);
+    NodeSpares& spares = spares_[k];
+    p.qr = &spares.qrStorage[kSpareSizes];
+    for (int i = 0; i < kSpareSizes; ++i) spares.sets[i].qr = &spares.qrStorage[i];
   }
   for (int k = 0; k < N_; ++k) {
     L_[k].resize(nu, nu);
     G_[k].resize(nu, nx);
     g_[k].resize(nu);
   }
+}
+
+void RiccatiSolver::SizedMatrices::swap(SizedMatrices& o) {
+  std::swap(sizes, o.sizes);
+  std::swap(lastUsed, o.lastUsed);
+  std::swap(qr, o.qr);
+  for (auto [a, b] : {std::pair{&Y, &o.Y}, {&Ct, &o.Ct}, {&ZK, &o.ZK}, {&AB, &o.AB}, {&R, &o.R},
+                      {&S, &o.S}, {&DKt, &o.DKt}, {&Qfull, &o.Qfull}, {&BK, &o.BK}, {&BQ, &o.BQ},
+                      {&RKK, &o.RKK}, {&RQ, &o.RQ}, {&T, &o.T}, {&SK, &o.SK}, {&QtSK, &o.QtSK},
+                      {&RFK, &o.RFK}, {&RFY, &o.RFY}, {&CW, &o.CW}, {&WC, &o.WC}})
+    a->swap(*b);
+  for (auto [a, b] : {std::pair{&r, &o.r}, {&ePrime, &o.ePrime}, {&rK, &o.rK}, {&ct, &o.ct},
+                      {&kcK, &o.kcK}, {&qWork, &o.qWork}})
+    a->swap(*b);
+}
+
+void RiccatiSolver::useSizes(int k, const Sizes& sizes) {
+  Projected& p = proj_[k];
+  NodeSpares& spares = spares_[k];
+  ++spares.clock;
+  if (!(p.sizes == sizes)) {
+    int pick = 0;
+    for (int i = 0; i < kSpareSizes; ++i) {
+      if (spares.sets[i].sizes == sizes) {
+        pick = i;
+        break;
+      }
+      if (spares.sets[i].lastUsed < spares.sets[pick].lastUsed) pick = i;
+    }
+    // p takes the set of these sizes (or the least recently used, to be resized); the spare keeps
+    // p's.
+    p.swap(spares.sets[pick]);
+    p.sizes = sizes;
+  }
+  p.lastUsed = spares.clock;
 }
 
 bool RiccatiSolver::project(int k, const LqNode& n) {
@@ -64,6 +105,7 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
   const IndexList K = indices(p.constrained), F = indices(p.free);
   const int nK = static_cast<int>(K.size());
   const int nF = static_cast<int>(F.size());
+  useSizes(k, Sizes{nK, static_cast<int>(general.size()), nF});
   // A general row whose part outside the rows before it is below kDependentBelow of its norm is
   // dropped: it asks for what the others nearly fix already, and met exactly it would take
   // inputs of its disagreement with them over that sine. On legs without hip yaw the two feet's
@@ -76,7 +118,7 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
     p.DKt.resize(nK, rows);
     for (int r = 0; r < rows; ++r)
       for (int i = 0; i < nK; ++i) p.DKt(i, r) = n.D(general[r], K[i]);
-    p.qr.compute(p.DKt);
+    p.qr->compute(p.DKt);
     if (rows == 1 || pass == 4) break;
     int worst = -1;
     double worstRho = kDependentBelow;
@@ -84,7 +126,7 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
       // A row past the nK-th lies in the span of the ones before (R has nK rows).
       const double norm = p.DKt.col(r).norm();
       const double rho = r >= nK       ? 0.0
-                         : norm > 0.0 ? std::abs(p.qr.matrixQR()(r, r)) / norm
+                         : norm > 0.0 ? std::abs(p.qr->matrixQR()(r, r)) / norm
                                       : 1.0;
       if (rho < worstRho) worstRho = rho, worst = r;
     }
@@ -101,12 +143,12 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
     p.ePrime = n.e(indices(general));
     for (int r = 0; r < mg; ++r)
       for (int j : p.fixed) p.ePrime[r] += n.D(general[r], j) * p.kc[j];
-    const auto pivots = p.qr.matrixQR().diagonal().head(mg).cwiseAbs();
+    const auto pivots = p.qr->matrixQR().diagonal().head(mg).cwiseAbs();
     if (!(pivots.minCoeff() > 1e-9 * std::max(1.0, pivots.maxCoeff()))) return false;
     p.Qfull.resize(nK, nK);
     p.qWork.resize(nK);
-    p.qr.householderQ().evalTo(p.Qfull, p.qWork);  // with a workspace: no allocation
-    const auto Rt = p.qr.matrixQR().topLeftCorner(mg, mg).triangularView<Eigen::Upper>().transpose();
+    p.qr->householderQ().evalTo(p.Qfull, p.qWork);  // with a workspace: no allocation
+    const auto Rt = p.qr->matrixQR().topLeftCorner(mg, mg).triangularView<Eigen::Upper>().transpose();
     p.Y = p.Qfull.leftCols(mg);
     p.ZK = p.Qfull.rightCols(nz);
     p.Ct = -n.C(indices(general), Eigen::all);

@@ -18,11 +18,13 @@
 // (sqp_solver.cpp): each step reads only its own node and what the step after it left.
 // The result is the exact minimiser of the LQ problem (checked against a direct KKT solve in
 // test/unit/mpc). Work arrays are allocated with the solver and reused; a node whose contact
-// mode changes size may reallocate its own.
+// mode changes keeps its matrices of earlier modes (useSizes), so that once each of its modes
+// has been seen a solve allocates nothing.
 #pragma once
 
 #include <Eigen/Cholesky>
 #include <Eigen/QR>
+#include <array>
 #include <chrono>
 #include <vector>
 
@@ -42,6 +44,9 @@ struct RiccatiTimings {
 class RiccatiSolver {
  public:
   RiccatiSolver(int horizonNodes, int nx, int nu);
+  // Its nodes point into their own spare storage (NodeSpares::qrStorage).
+  RiccatiSolver(const RiccatiSolver&) = delete;
+  RiccatiSolver& operator=(const RiccatiSolver&) = delete;
 
   /// nodes[0..N-1] carry dynamics, constraints and stage cost; nodes[N] the terminal cost.
   /// dx0 is the initial-state deviation. Writes dx (N+1) and du (N). Returns false if the
@@ -70,27 +75,55 @@ class RiccatiSolver {
   const RiccatiTimings& timings() const { return timings_; }
 
  private:
-  struct Projected {
-    std::vector<int> free, constrained, fixed, general;  ///< inputs by kind; general D rows
-    std::vector<char> kind;                              ///< per input (scratch)
+  /// What sets the sizes of a node's projection: the numbers of its constrained inputs, of its
+  /// general rows (before any is dropped) and of its free inputs.
+  struct Sizes {
+    int constrained = -1, general = -1, free = -1;
+    bool operator==(const Sizes& o) const {
+      return constrained == o.constrained && general == o.general && free == o.free;
+    }
+  };
+  /// The matrices of a node's projection whose sizes follow its contact mode, and their scratch.
+  struct SizedMatrices {
+    Sizes sizes;
+    long lastUsed = 0;
     Eigen::MatrixXd Y, Ct, ZK;  ///< Kc_K = Y·Ct (nK × mg, mg × nx); null basis of D_K (nK × nz)
-    Eigen::VectorXd kc;         ///< nu
     /// The LQ problem in (δx, w): AB = [A B] side by side, so that the sweep carries both
-    /// through P in one product; Q and R hold their lower triangles only (all the sweep reads).
-    Eigen::MatrixXd AB, Q, R, S;
-    Eigen::VectorXd b, q, r;
-    int nw = 0;
+    /// through P in one product; R holds its lower triangle only (all the sweep reads).
+    Eigen::MatrixXd AB, R, S;
+    Eigen::VectorXd r;
     // Scratch of this node's projection (kept to reuse the memory).
     Eigen::MatrixXd DKt, Qfull, BK, BQ, RKK, RQ, T, SK, QtSK, RFK, RFY, CW, WC;
-    Eigen::VectorXd ePrime, Rkc, rK, ct, kcK, qWork;
-    Eigen::HouseholderQR<Eigen::MatrixXd> qr;
+    Eigen::VectorXd ePrime, rK, ct, kcK, qWork;
+    Eigen::HouseholderQR<Eigen::MatrixXd>* qr = nullptr;  ///< one of the node's qrStorage
+    void swap(SizedMatrices& o);
   };
+  struct Projected : SizedMatrices {
+    std::vector<int> free, constrained, fixed, general;  ///< inputs by kind; general D rows
+    std::vector<char> kind;                              ///< per input (scratch)
+    Eigen::VectorXd kc;         ///< nu
+    /// Q holds its lower triangle only (all the sweep reads).
+    Eigen::MatrixXd Q;
+    Eigen::VectorXd b, q, Rkc;
+    int nw = 0;
+  };
+  /// A node's contact mode changes the sizes of its matrices, and a resize allocates. So each node
+  /// keeps the matrices of the last few sizes it had (walking cycles through a handful of modes):
+  /// the projection swaps in those of its sizes, the least recently used when it has none.
+  static constexpr int kSpareSizes = 4;
+  struct NodeSpares {
+    std::array<SizedMatrices, kSpareSizes> sets;
+    std::array<Eigen::HouseholderQR<Eigen::MatrixXd>, kSpareSizes + 1> qrStorage;
+    long clock = 0;
+  };
+  void useSizes(int k, const Sizes& sizes);
   /// δu for a state deviation and w (step 1 undone).
   void inputStep(const Projected& p, const Eigen::VectorXd& dx, const Eigen::VectorXd& w,
                  Eigen::VectorXd& du);
 
   int N_, nx_, nu_;
   std::vector<Projected> proj_;
+  std::vector<NodeSpares> spares_;
   // Per node, what the forward pass needs: H_uu = L Lᵀ (lower triangle), G = L⁻¹ H_ux and
   // g = L⁻¹ h_u, so that w = −L⁻ᵀ (g + G δx) without forming K = −L⁻ᵀ G.
   std::vector<Eigen::MatrixXd> L_, G_;

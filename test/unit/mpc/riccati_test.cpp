@@ -4,6 +4,8 @@
 #include "mpc/relaxed_barrier.hpp"
 #include "mpc/riccati_solver.hpp"
 #include "test/unit/mpc/lq_test_problems.hpp"
+#define BALLAST_ALLOCATION_COUNTER_ELSEWHERE  // sqp_test.cpp defines the counting malloc
+#include "test/unit/allocation_counter.hpp"
 
 namespace ballast::mpc {
 namespace {
@@ -147,6 +149,48 @@ TEST(RiccatiSolver, DropsDependentEqualityRowsAndRejectsAnInputFixedTwice) {
   nodes[1].D(0, 2) = 1.0;
   nodes[1].D(1, 2) = 3.0;
   EXPECT_FALSE(solver.solve(nodes, Eigen::VectorXd::Zero(4), dx, du));
+}
+
+// Walking takes each node through a few contact modes, and a mode sets the sizes of its node's
+// projection. A node keeps its matrices of the modes it had: back in one of them, a solve
+// allocates nothing. With more modes than a node keeps, it still solves exactly.
+TEST(RiccatiSolver, ANodeBackInAModeItHadAllocatesNothing) {
+  std::mt19937 rng(7);
+  const int N = 6, nx = 5, nu = 6, maxEq = 4;
+  // Modes 0-4: that many general rows over all inputs; 5 and 6: one and two inputs fixed by unit
+  // rows, beside one general row over the rest.
+  std::vector<std::vector<LqNode>> modes;
+  for (int m = 0; m <= maxEq; ++m)
+    modes.push_back(testing::randomLqProblem(N, nx, nu, maxEq, [m](int) { return m; }, rng));
+  for (int fixed : {1, 2}) {
+    auto nodes = testing::randomLqProblem(N, nx, nu, maxEq, [&](int) { return fixed + 1; }, rng);
+    for (int k = 0; k < N; ++k)
+      for (int j = 0; j < fixed; ++j) {
+        nodes[k].D.row(j).setZero();
+        nodes[k].D(j, j) = 1.0 + j;
+        nodes[k].C.row(j).setZero();
+      }
+    modes.push_back(nodes);
+  }
+  const Eigen::VectorXd dx0 = Eigen::VectorXd::Random(nx);
+  std::vector<Eigen::VectorXd> dx, du, dxRef, duRef;
+  auto solveExactly = [&](RiccatiSolver& solver, int m) {
+    SCOPED_TRACE(m);
+    bool ok = false;
+    const long allocations = test::allocationsIn([&] { ok = solver.solve(modes[m], dx0, dx, du); });
+    EXPECT_TRUE(ok);
+    testing::solveByKkt(modes[m], dx0, dxRef, duRef);
+    testing::expectKktSolution(dx, du, dxRef, duRef);
+    return allocations;
+  };
+  RiccatiSolver solver(N, nx, nu);
+  for (int m : {2, 5, 4}) solveExactly(solver, m);
+  for (int round = 0; round < 2; ++round)
+    for (int m : {2, 5, 4}) EXPECT_EQ(solveExactly(solver, m), 0) << "mode " << m;
+  // Seven modes in turn, two more than a node keeps: the least recently used is resized.
+  RiccatiSolver cycling(N, nx, nu);
+  for (int round = 0; round < 3; ++round)
+    for (int m = 0; m < static_cast<int>(modes.size()); ++m) solveExactly(cycling, m);
 }
 
 }  // namespace
