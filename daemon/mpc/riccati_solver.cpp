@@ -18,9 +18,8 @@ IndexList indices(const std::vector<int>& v) {
 
 RiccatiSolver::RiccatiSolver(int horizonNodes, int nx, int nu)
     : N_(horizonNodes), nx_(nx), nu_(nu), proj_(horizonNodes), spares_(horizonNodes),
-      L_(horizonNodes), G_(horizonNodes),
-      g_(horizonNodes), P_(nx, nx), M_(nx, nx + nu), H_(nx + nu, nx + nu), p_(nx), Pb_(nx),
-      y_(nx + nu), w_(nu), CtDx_(nu), KcDx_(nu), ZKw_(nu) {
+      L_(horizonNodes), G_(horizonNodes), g_(horizonNodes), P_(nx, nx), M_(nx, nx + nu),
+      H_(nx + nu, nx + nu), p_(nx), Pb_(nx), y_(nx + nu), w_(nu), CtDx_(nu), KcDx_(nu), ZKw_(nu) {
   for (int k = 0; k < N_; ++k) {
     Projected& p = proj_[k];
     for (auto* v : {&p.free, &p.constrained, &p.fixed, &p.general}) v->reserve(nu);
@@ -28,8 +27,6 @@ RiccatiSolver::RiccatiSolver(int horizonNodes, int nx, int nu)
     NodeSpares& spares = spares_[k];
     p.qr = &spares.qrStorage[kSpareSizes];
     for (int i = 0; i < kSpareSizes; ++i) spares.sets[i].qr = &spares.qrStorage[i];
-  }
-  for (int k = 0; k < N_; ++k) {
     L_[k].resize(nu, nu);
     G_[k].resize(nu, nx);
     g_[k].resize(nu);
