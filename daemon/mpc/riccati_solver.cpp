@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <utility>
 
 namespace ballast::mpc {
 
@@ -17,55 +16,36 @@ IndexList indices(const std::vector<int>& v) {
 }  // namespace
 
 RiccatiSolver::RiccatiSolver(int horizonNodes, int nx, int nu)
-    : N_(horizonNodes), nx_(nx), nu_(nu), proj_(horizonNodes), spares_(horizonNodes),
-      L_(horizonNodes), G_(horizonNodes), g_(horizonNodes), P_(nx, nx), M_(nx, nx + nu),
-      H_(nx + nu, nx + nu), p_(nx), Pb_(nx), y_(nx + nu), w_(nu), CtDx_(nu), KcDx_(nu), ZKw_(nu) {
+    : N_(horizonNodes), nx_(nx), nu_(nu), proj_(horizonNodes), L_(horizonNodes), G_(horizonNodes),
+      g_(horizonNodes), P_(nx, nx), M_(nx, nx + nu), H_(nx + nu, nx + nu), p_(nx), Pb_(nx),
+      y_(nx + nu), w_(nu), CtDx_(nu), KcDx_(nu), ZKw_(nu) {
   for (int k = 0; k < N_; ++k) {
     Projected& p = proj_[k];
     for (auto* v : {&p.free, &p.constrained, &p.fixed, &p.general}) v->reserve(nu);
     p.kind.resize(nu);
-    NodeSpares& spares = spares_[k];
-    p.qr = &spares.qrStorage[kSpareSizes];
-    for (int i = 0; i < kSpareSizes; ++i) spares.sets[i].qr = &spares.qrStorage[i];
     L_[k].resize(nu, nu);
     G_[k].resize(nu, nx);
     g_[k].resize(nu);
   }
 }
 
-void RiccatiSolver::SizedMatrices::swap(SizedMatrices& o) {
-  std::swap(sizes, o.sizes);
-  std::swap(lastUsed, o.lastUsed);
-  std::swap(qr, o.qr);
-  for (auto [a, b] : {std::pair{&Y, &o.Y}, {&Ct, &o.Ct}, {&ZK, &o.ZK}, {&AB, &o.AB}, {&R, &o.R},
-                      {&S, &o.S}, {&DKt, &o.DKt}, {&Qfull, &o.Qfull}, {&BK, &o.BK}, {&BQ, &o.BQ},
-                      {&RKK, &o.RKK}, {&RQ, &o.RQ}, {&T, &o.T}, {&SK, &o.SK}, {&QtSK, &o.QtSK},
-                      {&RFK, &o.RFK}, {&RFY, &o.RFY}, {&CW, &o.CW}, {&WC, &o.WC}})
-    a->swap(*b);
-  for (auto [a, b] : {std::pair{&r, &o.r}, {&ePrime, &o.ePrime}, {&rK, &o.rK}, {&ct, &o.ct},
-                      {&kcK, &o.kcK}, {&qWork, &o.qWork}})
-    a->swap(*b);
-}
-
-void RiccatiSolver::useSizes(int k, const Sizes& sizes) {
-  Projected& p = proj_[k];
-  NodeSpares& spares = spares_[k];
-  ++spares.clock;
-  if (!(p.sizes == sizes)) {
+void RiccatiSolver::useSizes(Projected& p, const Sizes& sizes) {
+  ++p.clock;
+  if (!(p.sized().sizes == sizes)) {
+    // The set of these sizes, or the least recently used (to be resized); the present one,
+    // used last, is never that.
     int pick = 0;
-    for (int i = 0; i < kSpareSizes; ++i) {
-      if (spares.sets[i].sizes == sizes) {
+    for (int i = 0; i < kSizeSets; ++i) {
+      if (p.sets[i].sizes == sizes) {
         pick = i;
         break;
       }
-      if (spares.sets[i].lastUsed < spares.sets[pick].lastUsed) pick = i;
+      if (p.sets[i].lastUsed < p.sets[pick].lastUsed) pick = i;
     }
-    // p takes the set of these sizes (or the least recently used, to be resized); the spare keeps
-    // p's.
-    p.swap(spares.sets[pick]);
-    p.sizes = sizes;
+    p.current = pick;
+    p.sized().sizes = sizes;
   }
-  p.lastUsed = spares.clock;
+  p.sized().lastUsed = p.clock;
 }
 
 bool RiccatiSolver::project(int k, const LqNode& n) {
@@ -102,7 +82,8 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
   const IndexList K = indices(p.constrained), F = indices(p.free);
   const int nK = static_cast<int>(K.size());
   const int nF = static_cast<int>(F.size());
-  useSizes(k, Sizes{nK, static_cast<int>(general.size()), nF});
+  useSizes(p, Sizes{nK, static_cast<int>(general.size()), nF});
+  SizedMatrices& s = p.sized();
   // A general row whose part outside the rows before it is below kDependentBelow of its norm is
   // dropped: it asks for what the others nearly fix already, and met exactly it would take
   // inputs of its disagreement with them over that sine. On legs without hip yaw the two feet's
@@ -112,18 +93,18 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
   for (int pass = 0;; ++pass) {
     const int rows = static_cast<int>(general.size());
     if (rows == 0) break;
-    p.DKt.resize(nK, rows);
+    s.DKt.resize(nK, rows);
     for (int r = 0; r < rows; ++r)
-      for (int i = 0; i < nK; ++i) p.DKt(i, r) = n.D(general[r], K[i]);
-    p.qr->compute(p.DKt);
+      for (int i = 0; i < nK; ++i) s.DKt(i, r) = n.D(general[r], K[i]);
+    s.qr.compute(s.DKt);
     if (rows == 1 || pass == 4) break;
     int worst = -1;
     double worstRho = kDependentBelow;
     for (int r = 1; r < rows; ++r) {
       // A row past the nK-th lies in the span of the ones before (R has nK rows).
-      const double norm = p.DKt.col(r).norm();
+      const double norm = s.DKt.col(r).norm();
       const double rho = r >= nK       ? 0.0
-                         : norm > 0.0 ? std::abs(p.qr->matrixQR()(r, r)) / norm
+                         : norm > 0.0 ? std::abs(s.qr.matrixQR()(r, r)) / norm
                                       : 1.0;
       if (rho < worstRho) worstRho = rho, worst = r;
     }
@@ -137,41 +118,41 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
   // Qfull = [Y Z_K] from the QR of D_Kᵀ; every product with Y and with Z_K below is taken with
   // Qfull at once (one larger product instead of two small ones), and its parts read from that.
   if (mg > 0) {
-    p.ePrime = n.e(indices(general));
+    s.ePrime = n.e(indices(general));
     for (int r = 0; r < mg; ++r)
-      for (int j : p.fixed) p.ePrime[r] += n.D(general[r], j) * p.kc[j];
-    const auto pivots = p.qr->matrixQR().diagonal().head(mg).cwiseAbs();
+      for (int j : p.fixed) s.ePrime[r] += n.D(general[r], j) * p.kc[j];
+    const auto pivots = s.qr.matrixQR().diagonal().head(mg).cwiseAbs();
     if (!(pivots.minCoeff() > 1e-9 * std::max(1.0, pivots.maxCoeff()))) return false;
-    p.Qfull.resize(nK, nK);
-    p.qWork.resize(nK);
-    p.qr->householderQ().evalTo(p.Qfull, p.qWork);  // with a workspace: no allocation
-    const auto Rt = p.qr->matrixQR().topLeftCorner(mg, mg).triangularView<Eigen::Upper>().transpose();
-    p.Y = p.Qfull.leftCols(mg);
-    p.ZK = p.Qfull.rightCols(nz);
-    p.Ct = -n.C(indices(general), Eigen::all);
-    Rt.solveInPlace(p.Ct);
-    p.ct = -p.ePrime;
-    Rt.solveInPlace(p.ct);
-    p.kcK.noalias() = p.Y * p.ct;
-    p.kc(K) = p.kcK;
+    s.Qfull.resize(nK, nK);
+    s.qWork.resize(nK);
+    s.qr.householderQ().evalTo(s.Qfull, s.qWork);  // with a workspace: no allocation
+    const auto Rt = s.qr.matrixQR().topLeftCorner(mg, mg).triangularView<Eigen::Upper>().transpose();
+    s.Y = s.Qfull.leftCols(mg);
+    s.ZK = s.Qfull.rightCols(nz);
+    s.Ct = -n.C(indices(general), Eigen::all);
+    Rt.solveInPlace(s.Ct);
+    s.ct = -s.ePrime;
+    Rt.solveInPlace(s.ct);
+    s.kcK.noalias() = s.Y * s.ct;
+    p.kc(K) = s.kcK;
   } else {
-    p.Y.resize(nK, 0);
-    p.Ct.resize(0, nx_);
-    p.ZK.setIdentity(nK, nK);
-    p.Qfull.setIdentity(nK, nK);
+    s.Y.resize(nK, 0);
+    s.Ct.resize(0, nx_);
+    s.ZK.setIdentity(nK, nK);
+    s.Qfull.setIdentity(nK, nK);
   }
   p.nw = nF + nz;
 
   // Dynamics: A' = A + (B_K Y) Ct, B' = [B_F, B_K Z_K], b' = b + B kc.
-  p.AB.resize(nx_, nx_ + p.nw);
-  auto A = p.AB.leftCols(nx_);
-  auto B = p.AB.rightCols(p.nw);
-  p.BK = n.B(Eigen::all, K);
-  p.BQ.noalias() = p.BK * p.Qfull;  // [B_K Y, B_K Z_K]
+  s.AB.resize(nx_, nx_ + p.nw);
+  auto A = s.AB.leftCols(nx_);
+  auto B = s.AB.rightCols(p.nw);
+  s.BK = n.B(Eigen::all, K);
+  s.BQ.noalias() = s.BK * s.Qfull;  // [B_K Y, B_K Z_K]
   A = n.A;
-  A.noalias() += p.BQ.leftCols(mg) * p.Ct;
+  A.noalias() += s.BQ.leftCols(mg) * s.Ct;
   B.leftCols(nF) = n.B(Eigen::all, F);
-  B.rightCols(nz) = p.BQ.rightCols(nz);
+  B.rightCols(nz) = s.BQ.rightCols(nz);
   p.b = n.b;
   p.b.noalias() += n.B * p.kc;
 
@@ -180,61 +161,62 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
   //   q' = q + Ctᵀ Yᵀ (r_K + (R kc)_K) + Sᵀ kc
   //   S' = [S_F + (R_FK Y) Ct;  Z_Kᵀ S_K + (Z_Kᵀ R_KK Y) Ct],  R' = [R_FF, R_FK Z_K; ., Z_Kᵀ R_KK Z_K]
   // T = Qfullᵀ R_KK Qfull holds Yᵀ R_KK Y, Z_Kᵀ R_KK Y and Z_Kᵀ R_KK Z_K in its lower triangle.
-  p.SK = n.S(K, Eigen::all);
-  p.QtSK.noalias() = p.Qfull.transpose() * p.SK;  // [Yᵀ S_K; Z_Kᵀ S_K]
-  p.RKK = n.R(K, K);
-  p.RQ.noalias() = p.RKK * p.Qfull;
-  p.T.resize(nK, nK);
-  p.T.triangularView<Eigen::Lower>() = p.Qfull.transpose() * p.RQ;
+  s.SK = n.S(K, Eigen::all);
+  s.QtSK.noalias() = s.Qfull.transpose() * s.SK;  // [Yᵀ S_K; Z_Kᵀ S_K]
+  s.RKK = n.R(K, K);
+  s.RQ.noalias() = s.RKK * s.Qfull;
+  s.T.resize(nK, nK);
+  s.T.triangularView<Eigen::Lower>() = s.Qfull.transpose() * s.RQ;
   // CW = [Ct; W], WC = [W; Ct]: Ctᵀ W + Wᵀ Ct = CWᵀ WC, one symmetric product.
-  p.CW.resize(2 * mg, nx_);
-  p.WC.resize(2 * mg, nx_);
-  auto W = p.WC.topRows(mg);
+  s.CW.resize(2 * mg, nx_);
+  s.WC.resize(2 * mg, nx_);
+  auto W = s.WC.topRows(mg);
   p.Q = n.Q;
   if (mg > 0) {
-    W = p.QtSK.topRows(mg);
-    W.noalias() += 0.5 * p.T.topLeftCorner(mg, mg).selfadjointView<Eigen::Lower>() * p.Ct;
-    p.WC.bottomRows(mg) = p.Ct;
-    p.CW.topRows(mg) = p.Ct;
-    p.CW.bottomRows(mg) = W;
-    p.Q.triangularView<Eigen::Lower>() += p.CW.transpose() * p.WC;
+    W = s.QtSK.topRows(mg);
+    W.noalias() += 0.5 * s.T.topLeftCorner(mg, mg).selfadjointView<Eigen::Lower>() * s.Ct;
+    s.WC.bottomRows(mg) = s.Ct;
+    s.CW.topRows(mg) = s.Ct;
+    s.CW.bottomRows(mg) = W;
+    p.Q.triangularView<Eigen::Lower>() += s.CW.transpose() * s.WC;
   }
   p.Rkc.noalias() = n.R * p.kc;
-  p.rK = n.r(K) + p.Rkc(K);
+  s.rK = n.r(K) + p.Rkc(K);
   p.q = n.q;
   p.q.noalias() += n.S.transpose() * p.kc;
-  p.ct.noalias() = p.Y.transpose() * p.rK;
-  p.q.noalias() += p.Ct.transpose() * p.ct;
+  s.ct.noalias() = s.Y.transpose() * s.rK;
+  p.q.noalias() += s.Ct.transpose() * s.ct;
 
-  p.RFK = n.R(F, K);
-  p.S.resize(p.nw, nx_);
-  p.S.topRows(nF) = n.S(F, Eigen::all);
-  p.RFY.noalias() = p.RFK * p.Y;
-  p.S.topRows(nF).noalias() += p.RFY * p.Ct;
-  p.S.bottomRows(nz) = p.QtSK.bottomRows(nz);
-  p.S.bottomRows(nz).noalias() += p.T.bottomLeftCorner(nz, mg) * p.Ct;
-  p.R.resize(p.nw, p.nw);
-  p.R.topLeftCorner(nF, nF) = n.R(F, F);
-  p.R.bottomLeftCorner(nz, nF).noalias() = p.ZK.transpose() * p.RFK.transpose();
-  p.R.bottomRightCorner(nz, nz).triangularView<Eigen::Lower>() = p.T.bottomRightCorner(nz, nz);
-  p.r.resize(p.nw);
-  p.r.head(nF) = n.r(F) + p.Rkc(F);
-  p.r.tail(nz).noalias() = p.ZK.transpose() * p.rK;
+  s.RFK = n.R(F, K);
+  s.S.resize(p.nw, nx_);
+  s.S.topRows(nF) = n.S(F, Eigen::all);
+  s.RFY.noalias() = s.RFK * s.Y;
+  s.S.topRows(nF).noalias() += s.RFY * s.Ct;
+  s.S.bottomRows(nz) = s.QtSK.bottomRows(nz);
+  s.S.bottomRows(nz).noalias() += s.T.bottomLeftCorner(nz, mg) * s.Ct;
+  s.R.resize(p.nw, p.nw);
+  s.R.topLeftCorner(nF, nF) = n.R(F, F);
+  s.R.bottomLeftCorner(nz, nF).noalias() = s.ZK.transpose() * s.RFK.transpose();
+  s.R.bottomRightCorner(nz, nz).triangularView<Eigen::Lower>() = s.T.bottomRightCorner(nz, nz);
+  s.r.resize(p.nw);
+  s.r.head(nF) = n.r(F) + p.Rkc(F);
+  s.r.tail(nz).noalias() = s.ZK.transpose() * s.rK;
   return true;
 }
 
 void RiccatiSolver::inputStep(const Projected& p, const Eigen::VectorXd& dx, const Eigen::VectorXd& w,
                               Eigen::VectorXd& du) {
+  const SizedMatrices& s = p.sized();
   const int nF = static_cast<int>(p.free.size());
   du = p.kc;
   du(indices(p.free)) += w.head(nF);
   // δu_K += Kc_K δx + Z_K w_K, with Kc_K δx = Y (Ct δx).
-  auto CtDx = CtDx_.head(p.Ct.rows());
-  auto KcDx = KcDx_.head(p.Y.rows());
-  auto ZKw = ZKw_.head(p.ZK.rows());
-  CtDx.noalias() = p.Ct * dx;
-  KcDx.noalias() = p.Y * CtDx;
-  ZKw.noalias() = p.ZK * w.segment(nF, p.nw - nF);
+  auto CtDx = CtDx_.head(s.Ct.rows());
+  auto KcDx = KcDx_.head(s.Y.rows());
+  auto ZKw = ZKw_.head(s.ZK.rows());
+  CtDx.noalias() = s.Ct * dx;
+  KcDx.noalias() = s.Y * CtDx;
+  ZKw.noalias() = s.ZK * w.segment(nF, p.nw - nF);
   du(indices(p.constrained)) += KcDx + ZKw;
 }
 
@@ -264,22 +246,23 @@ void RiccatiSolver::beginSweep(const LqNode& terminal) {
 bool RiccatiSolver::sweepNode(int k) {
   const int nx = nx_;
   const Projected& n = proj_[k];
+  const SizedMatrices& s = n.sized();
   const int nw = n.nw, nab = nx + nw;
   // H = [A B]ᵀ P [A B] (lower triangle): AᵀPA, BᵀPA and BᵀPB in one product.
   auto M = M_.leftCols(nab);
-  M.noalias() = P_ * n.AB;
+  M.noalias() = P_ * s.AB;
   auto H = H_.topLeftCorner(nab, nab);
-  H.triangularView<Eigen::Lower>() = n.AB.transpose() * M;
+  H.triangularView<Eigen::Lower>() = s.AB.transpose() * M;
   Pb_ = p_;
   Pb_.noalias() += P_ * n.b;  // P b + p
   auto y = y_.head(nab);
-  y.noalias() = n.AB.transpose() * Pb_;  // [Aᵀ; Bᵀ] (P b + p)
+  y.noalias() = s.AB.transpose() * Pb_;  // [Aᵀ; Bᵀ] (P b + p)
   auto Huu = L_[k].topLeftCorner(nw, nw);
   auto G = G_[k].topRows(nw);
   auto g = g_[k].head(nw);
-  Huu.triangularView<Eigen::Lower>() = n.R + H.bottomRightCorner(nw, nw);
-  G = n.S + H.bottomLeftCorner(nw, nx);
-  g = n.r + y.tail(nw);
+  Huu.triangularView<Eigen::Lower>() = s.R + H.bottomRightCorner(nw, nw);
+  G = s.S + H.bottomLeftCorner(nw, nx);
+  g = s.r + y.tail(nw);
   // H_uu = L Lᵀ (in place); G = L⁻¹ H_ux, g = L⁻¹ h_u (K = −L⁻ᵀ G, k = −L⁻ᵀ g).
   Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(Huu);
   if (llt.info() != Eigen::Success) return false;

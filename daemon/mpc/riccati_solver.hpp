@@ -44,9 +44,6 @@ struct RiccatiTimings {
 class RiccatiSolver {
  public:
   RiccatiSolver(int horizonNodes, int nx, int nu);
-  // Its nodes point into their own spare storage (NodeSpares::qrStorage).
-  RiccatiSolver(const RiccatiSolver&) = delete;
-  RiccatiSolver& operator=(const RiccatiSolver&) = delete;
 
   /// nodes[0..N-1] carry dynamics, constraints and stage cost; nodes[N] the terminal cost.
   /// dx0 is the initial-state deviation. Writes dx (N+1) and du (N). Returns false if the
@@ -95,10 +92,13 @@ class RiccatiSolver {
     // Scratch of this node's projection (kept to reuse the memory).
     Eigen::MatrixXd DKt, Qfull, BK, BQ, RKK, RQ, T, SK, QtSK, RFK, RFY, CW, WC;
     Eigen::VectorXd ePrime, rK, ct, kcK, qWork;
-    Eigen::HouseholderQR<Eigen::MatrixXd>* qr = nullptr;  ///< one of the node's qrStorage
-    void swap(SizedMatrices& o);
+    Eigen::HouseholderQR<Eigen::MatrixXd> qr;
   };
-  struct Projected : SizedMatrices {
+  /// A node's contact mode changes the sizes of its matrices, and a resize allocates. So each node
+  /// keeps the matrices of the last few sizes it had (walking cycles through a handful of modes):
+  /// the projection takes those of its sizes, the least recently used when it has none.
+  static constexpr int kSizeSets = 5;
+  struct Projected {
     std::vector<int> free, constrained, fixed, general;  ///< inputs by kind; general D rows
     std::vector<char> kind;                              ///< per input (scratch)
     Eigen::VectorXd kc;         ///< nu
@@ -106,24 +106,19 @@ class RiccatiSolver {
     Eigen::MatrixXd Q;
     Eigen::VectorXd b, q, Rkc;
     int nw = 0;
+    std::array<SizedMatrices, kSizeSets> sets;
+    int current = 0;  ///< the set of the node's present sizes
+    long clock = 0;   ///< counts useSizes calls, for lastUsed
+    SizedMatrices& sized() { return sets[current]; }
+    const SizedMatrices& sized() const { return sets[current]; }
   };
-  /// A node's contact mode changes the sizes of its matrices, and a resize allocates. So each node
-  /// keeps the matrices of the last few sizes it had (walking cycles through a handful of modes):
-  /// the projection swaps in those of its sizes, the least recently used when it has none.
-  static constexpr int kSpareSizes = 4;
-  struct NodeSpares {
-    std::array<SizedMatrices, kSpareSizes> sets;
-    std::array<Eigen::HouseholderQR<Eigen::MatrixXd>, kSpareSizes + 1> qrStorage;
-    long clock = 0;
-  };
-  void useSizes(int k, const Sizes& sizes);
+  void useSizes(Projected& p, const Sizes& sizes);
   /// δu for a state deviation and w (step 1 undone).
   void inputStep(const Projected& p, const Eigen::VectorXd& dx, const Eigen::VectorXd& w,
                  Eigen::VectorXd& du);
 
   int N_, nx_, nu_;
   std::vector<Projected> proj_;
-  std::vector<NodeSpares> spares_;
   // Per node, what the forward pass needs: H_uu = L Lᵀ (lower triangle), G = L⁻¹ H_ux and
   // g = L⁻¹ h_u, so that w = −L⁻ᵀ (g + G δx) without forming K = −L⁻ᵀ G.
   std::vector<Eigen::MatrixXd> L_, G_;
