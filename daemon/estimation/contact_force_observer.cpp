@@ -9,10 +9,6 @@
 
 namespace ballast::estimation {
 
-namespace {
-constexpr double kRegularization = 1e-6;  // m², λ of the per-foot least squares
-}
-
 ContactForceObserver::ContactForceObserver(const model::Model& model,
                                            const std::array<int, kContactPoints>& contactFrames)
     : model_(model),
@@ -24,6 +20,7 @@ ContactForceObserver::ContactForceObserver(const model::Model& model,
     Jc_[c].setZero(3, model.nv);
     force_[c].setZero();
     footForce_[c].setZero();
+    unsensed_[c].setZero();
     const int body = model.frames[contactFrames[c]].body;
     if (body == 0)
       throw model::ModelError(model.sourceFile + ": contact frame '" +
@@ -52,7 +49,8 @@ ContactForceObserver::ContactForceObserver(const model::Model& model,
 
 void ContactForceObserver::update(const model::Data<double>& data, const Eigen::VectorXd& v,
                                   const Eigen::VectorXd& jointPositions,
-                                  const Eigen::VectorXd& tau, double dt, double bandwidth) {
+                                  const Eigen::VectorXd& tau, double dt, double bandwidth,
+                                  double regularization) {
   const double alpha = std::min(bandwidth * dt, 1.0);
   const bool first = !started_;
   for (int row : rows_) {
@@ -88,7 +86,7 @@ void ContactForceObserver::update(const model::Data<double>& data, const Eigen::
     }
     ForceMatrix N(m, m);
     N.noalias() = A.transpose() * A;
-    N.diagonal().array() += kRegularization;
+    N.diagonal().array() += regularization;
     ForceVector rhs(m);
     rhs.noalias() = A.transpose() * b;
     const Eigen::LDLT<ForceMatrix> ldlt(N);
@@ -102,8 +100,26 @@ void ContactForceObserver::update(const model::Data<double>& data, const Eigen::
       f = keep * f + F.segment<3>(3 * p);
       total += f;
     }
-    for (int point : foot.points) footForce_[point] = total;
+    // W = (λ/p)·S N⁻¹ Sᵀ (header), S = [I I ...].
+    const int points = static_cast<int>(foot.points.size());
+    ForceMatrix St = ForceMatrix::Zero(m, 3);
+    for (int p = 0; p < points; ++p) St.block<3, 3>(3 * p, 0).setIdentity();
+    const ForceMatrix X = ldlt.solve(St);
+    Eigen::Matrix3d W = Eigen::Matrix3d::Zero();
+    for (int p = 0; p < points; ++p) W += X.block<3, 3>(3 * p, 0);
+    W *= regularization / points;
+    W = 0.5 * (W + W.transpose()).eval();
+    for (int point : foot.points) footForce_[point] = total, unsensed_[point] = W;
   }
+}
+
+Eigen::Matrix3d ContactForceObserver::unsensedLoad(
+    const std::array<bool, kContactPoints>& stance) const {
+  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+  for (const Foot& foot : feet_)
+    if (std::any_of(foot.points.begin(), foot.points.end(), [&](int p) { return stance[p]; }))
+      sum += unsensed_[foot.points[0]];
+  return sum;
 }
 
 }  // namespace ballast::estimation

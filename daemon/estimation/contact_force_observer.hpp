@@ -27,12 +27,25 @@
 //
 // Per foot (the contact points on one body): the joints on the chain from that body to the base
 // carry its forces only, r_chain = A·F_foot with A = J_chainᵀ. F_foot = argmin ‖A F − r_chain‖² +
-// λ‖F‖², λ = 1e-6 m². With toe and heel on one foot the force along the toe–heel line is
-// internal (A's null space, which λ keeps out of the answer); the normal forces, what the
-// contact decision needs, are observable. The smallest other eigenvalue of AᵀA is 0.018 m² with
-// the knee bent 0.8 rad and 1e-4 m² at 0.05 rad: λ biases the forces by under 1 % until the knee
-// is all but straight, where the force along the leg stops reaching the joints at all (a
-// stretched leg cannot sense its load; λ then keeps the noise bounded).
+// λ‖F‖² (λ: estimator.contact_force_regularization). With toe and heel on one foot the force
+// along the toe–heel line is internal (A's null space, which λ keeps out of the answer); the
+// normal forces, what the contact decision needs, are observable. Along an eigenvector of AᵀA of
+// eigenvalue μ the least squares keeps μ/(μ + λ) of the force and turns a torque error of ε N·m
+// into up to ε/(2√λ) N. The smallest μ (but the internal one) is 0.018 m² with the knee bent
+// 0.8 rad and 1e-4 m² at 0.05 rad, along the leg: a stretched leg cannot sense its load, and with
+// the knee on its stop (its row left out) the force along the line from hip to ankle reaches no
+// joint at all. At λ = 1e-6 such a leg read a few N·m of error as kN (traced at 1.0 m/s: the feet's
+// vertical forces summed to −1900 N as a stance knee reached its stop, and a push of (−150, +210) N
+// was read under a true (0, 60)). λ = 3e-4 bounds 3 N·m to 90 N. Larger, it leaves out more of a
+// bent leg's load (3 % at 1e-3), and the standing robot's recovery steps under a 60 N sideways
+// push on profiles/sim-flat-push.yaml fell in one direction at 1e-3 and in both at 3e-3. What λ
+// leaves out is measured:
+// W = (λ/p)·S (AᵀA + λI)⁻¹ Sᵀ (3 × 3, world; S sums the foot's p points' forces) is the part of an
+// evenly split foot force F that the answer misses, F̂ = (I − W)·F; its eigenvalues are the
+// fractions missed by direction (0.01 along the leg with the knee bent 0.8 rad, 0.8 with the knee
+// on its stop).
+// The external force observer takes that part of the load from the vertical momentum balance
+// (external_force_observer.hpp).
 #pragma once
 
 #include <array>
@@ -61,10 +74,10 @@ class ContactForceObserver {
   /// One step. `data` holds crba(q) (M) and nonLinearEffects(q, v) (nle) for the same q and v,
   /// with the base at any position and its true orientation (forces come out in world axes).
   /// v: generalised velocity (nv); jointPositions, tau: measured joint positions and torques
-  /// (nj, model order); bandwidth: K.
+  /// (nj, model order); bandwidth: K; regularization: λ (m², header).
   void update(const model::Data<double>& data, const Eigen::VectorXd& v,
               const Eigen::VectorXd& jointPositions, const Eigen::VectorXd& tau, double dt,
-              double bandwidth);
+              double bandwidth, double regularization);
 
   /// Estimated force on the robot at contact point i, world frame, N.
   const Eigen::Vector3d& force(int i) const { return force_[i]; }
@@ -73,6 +86,12 @@ class ContactForceObserver {
   /// toe and heel is where the centre of pressure is (a robot standing with its weight on its
   /// heels has a toe on the ground carrying little).
   const Eigen::Vector3d& footForce(int i) const { return footForce_[i]; }
+  /// W of the body that carries contact point i (header): the fraction of a force on it, by
+  /// direction, that this tick's least squares could not sense (world, symmetric, eigenvalues in
+  /// [0, 1]).
+  const Eigen::Matrix3d& unsensedLoad(int i) const { return unsensed_[i]; }
+  /// The sum of W over the feet with a point in `stance` (each foot once).
+  Eigen::Matrix3d unsensedLoad(const std::array<bool, kContactPoints>& stance) const;
 
  private:
   struct Foot {
@@ -95,6 +114,7 @@ class ContactForceObserver {
   Eigen::Matrix<double, 3, Eigen::Dynamic> J_;  // one contact point's Jacobian
   std::array<Eigen::Matrix<double, 3, Eigen::Dynamic>, kContactPoints> Jc_;
   std::array<Eigen::Vector3d, kContactPoints> force_, footForce_;
+  std::array<Eigen::Matrix3d, kContactPoints> unsensed_;
   bool started_ = false;
 };
 

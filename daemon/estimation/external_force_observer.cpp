@@ -7,7 +7,7 @@ namespace ballast::estimation {
 void ExternalForceObserver::update(const Eigen::Vector3d& momentum,
                                    const Eigen::Vector3d& contactForceSum,
                                    const Eigen::Vector3d& weight, double dt, double bandwidth,
-                                   double contactBandwidth) {
+                                   double contactBandwidth, const Eigen::Matrix3d& unsensedLoad) {
   if (!started_ || !(dt > 0.0)) {
     momentum_ = momentum;
     force_.setZero();
@@ -17,9 +17,17 @@ void ExternalForceObserver::update(const Eigen::Vector3d& momentum,
   // p_f: the momentum through the contact forces' low-pass (the same discrete form).
   const double c = contactBandwidth > 0.0 ? std::min(1.0, contactBandwidth * dt) : 1.0;
   const Eigen::Vector3d filtered = momentum_ + c * (momentum - momentum_);
+  // The load the stance legs could not sense, from the vertical balance (header).
+  // Under kSensed no stance leg misses enough for the balance to say more than its own errors.
+  constexpr double kEpsilon = 0.005, kSensed = 1e-3;
+  const double wzz = unsensedLoad(2, 2);
+  Eigen::Vector3d contacts = contactForceSum;
+  if (wzz > kSensed) {
+    const double deficit = (filtered.z() - momentum_.z()) / dt - contactForceSum.z() - weight.z();
+    contacts += unsensedLoad.col(2) * (deficit / (wzz + kEpsilon));
+  }
   const double a = std::min(1.0, bandwidth * dt);
-  force_ = (1.0 - a) * force_ + bandwidth * (filtered - momentum_) -
-           a * (contactForceSum + weight);
+  force_ = (1.0 - a) * force_ + bandwidth * (filtered - momentum_) - a * (contacts + weight);
   momentum_ = filtered;
 }
 

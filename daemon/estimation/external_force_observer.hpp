@@ -12,6 +12,15 @@
 // push of about K/K_c of the load step: 100-170 N for 1/5 of 600 N, spikes that made the step
 // adjustment throw the feet 0.2 m and the MPC lean into a push that was not there. p is the first three rows of M(q)·v turned into the world (with the free-flyer's base
 // velocity in the base frame, (M v)[0:3] is the robot's linear momentum in base axes).
+// A stance leg that is straight, or has a joint on its stop, cannot sense the load along it
+// (contact_force_observer.hpp): F̂ misses W·F of the foot's force F, W the fraction missed by
+// direction, and without more that part reads as a push (traced at 1.0 m/s: (−150, +210) N under
+// a true (0, 60) N while a stance knee sat on its stop). Pushes are taken as horizontal, so the
+// vertical balance says how much is missing: with δ = ṗ_f − F̂ − m g at this tick (the contact
+// forces' bandwidth), the missing force is y = W e_z · δ_z / (W_zz + ε), the least one within W's
+// directions that closes the vertical balance (ε keeps a nearly sensed leg from taking the model's
+// vertical errors). W is low-passed like F̂ (K_c), as the part F̂ misses fades in and out at that
+// rate. A vertical push on such a leg is taken for its load.
 // What the estimate carries besides a push: the model's errors (a mass or a centre of mass off,
 // an actuator's inertia the model lacks) and the contact forces' own errors. A force under
 // `deadband` (N, horizontal magnitude) reads as none, and the reported force is the excess over
@@ -30,10 +39,12 @@ class ExternalForceObserver {
 
   /// momentum: m ċ (world, N·s); contactForceSum: Σ F_i on the robot (world, N); weight: m g
   /// (world, N, pointing down); bandwidth: K (1/s); contactBandwidth: K_c of the contact forces'
-  /// low-pass (1/s; 0: the momentum unfiltered).
+  /// low-pass (1/s; 0: the momentum unfiltered); unsensedLoad: W of the feet that stand (header;
+  /// world, low-passed like the contact forces), zero when every stance leg senses its load.
   void update(const Eigen::Vector3d& momentum, const Eigen::Vector3d& contactForceSum,
               const Eigen::Vector3d& weight, double dt, double bandwidth,
-              double contactBandwidth = 0.0);
+              double contactBandwidth = 0.0,
+              const Eigen::Matrix3d& unsensedLoad = Eigen::Matrix3d::Zero());
 
   /// f_ext low-passed (world, N), before the deadband.
   const Eigen::Vector3d& raw() const { return force_; }

@@ -23,7 +23,7 @@ model::SettingsProblem validateSettings(const EstimatorSettings& s, const model:
       {&S::swingNoiseScale, 1, false},        {&S::initialPositionNoise, 0, true},
       {&S::initialVelocityNoise, 0, true},    {&S::contactForceThreshold, 0, false},
       {&S::contactForceRelease, 0, false},    {&S::contactForceReleaseTime, 0, false},
-      {&S::contactForceBandwidth, 0, true},
+      {&S::contactForceBandwidth, 0, true},  {&S::contactForceRegularization, 0, true},
       {&S::externalForceBandwidth, 0, true},  {&S::externalForceDeadband, 0, false},
   };
   for (const auto& n : numbers) {

@@ -5,8 +5,12 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <utility>
+
+#include <Eigen/Eigenvalues>
 
 #include "estimation/contact_force_observer.hpp"
+#include "test/unit/settings_support.hpp"
 #include "test/unit/test_support.hpp"
 
 namespace ballast::test {
@@ -16,6 +20,10 @@ using estimation::ContactForceObserver;
 using estimation::kContactPoints;
 using Eigen::Vector3d;
 using Eigen::VectorXd;
+
+/// A λ small enough that a bent leg's forces come out exact (the profile's default is larger:
+/// WhatAStretchedLegCannotSenseIsMeasured).
+constexpr double kExact = 1e-6;
 
 std::array<int, kContactPoints> contactFrames(const model::Model& m) {
   return {m.frameId("left_toe"), m.frameId("left_heel"), m.frameId("right_toe"),
@@ -54,7 +62,7 @@ TEST(ContactForceObserver, StaticForcesRecovered) {
     model::Data<double> d(m);
     prepare(m, d, q, v);
     ContactForceObserver obs(m, contactFrames(m));
-    obs.update(d, v, q.tail(m.nj()), tau, 0.001, 50.0);
+    obs.update(d, v, q.tail(m.nj()), tau, 0.001, 50.0, kExact);
     for (int foot = 0; foot < 2; ++foot) {
       // Per foot, the total force is observable, and the error on each point lies along the
       // toe–heel line (equal and opposite: the internal force the joints cannot feel).
@@ -108,7 +116,7 @@ TEST(ContactForceObserver, SwingLegInertiaIsNotAContactForce) {
       tau[j] += 0.5 * noise(rng);
     }
     prepare(m, d, q, vMeasured);
-    obs.update(d, vMeasured, q.tail(m.nj()), tau, dt, 50.0);
+    obs.update(d, vMeasured, q.tail(m.nj()), tau, dt, 50.0, kExact);
     if (t < 0.5) continue;  // 25 observer time constants
     worstLeft = std::max(worstLeft, std::max(obs.force(0).norm(), obs.force(1).norm()));
     sumLeft2 += (obs.force(0) + obs.force(1)).squaredNorm();
@@ -116,7 +124,7 @@ TEST(ContactForceObserver, SwingLegInertiaIsNotAContactForce) {
     worstRight = std::max({worstRight, std::abs(obs.force(2).z() - 300), std::abs(obs.force(3).z() - 300)});
     // The static estimate at this instant, from a fresh observer (r = n − τ).
     ContactForceObserver fresh(m, contactFrames(m));
-    fresh.update(d, vMeasured, q.tail(m.nj()), tau, dt, 50.0);
+    fresh.update(d, vMeasured, q.tail(m.nj()), tau, dt, 50.0, kExact);
     worstStatic = std::max(worstStatic, std::max(fresh.force(0).norm(), fresh.force(1).norm()));
   }
   std::printf("swing foot: observer RMS %.1f N, max %.1f N, static estimate max %.1f N; stance "
@@ -157,7 +165,7 @@ TEST(ContactForceObserver, ATurningStanceLegDoesNotTiltItsForce) {
     }
     const VectorXd tau = torques(m, q, v, a, F);
     prepare(m, d, q, v);
-    obs.update(d, v, q.tail(m.nj()), tau, dt, 50.0);
+    obs.update(d, v, q.tail(m.nj()), tau, dt, 50.0, kExact);
     if (t < 0.1) continue;  // 5 observer time constants
     const Vector3d left = obs.footForce(0);
     worstHorizontal = std::max(worstHorizontal, left.head<2>().norm());
@@ -190,7 +198,7 @@ TEST(ContactForceObserver, AJointOnItsStopIsNotAContactForce) {
     model::Data<double> d(m);
     prepare(m, d, q, v);
     ContactForceObserver obs(m, contactFrames(m));
-    obs.update(d, v, q.tail(m.nj()), tau, 0.001, 50.0);
+    obs.update(d, v, q.tail(m.nj()), tau, 0.001, 50.0, kExact);
     right = obs.footForce(2);
     return obs.footForce(0).norm();
   };
@@ -200,6 +208,56 @@ TEST(ContactForceObserver, AJointOnItsStopIsNotAContactForce) {
   EXPECT_LT(onStop, 1.0);
   EXPECT_LT((right - Vector3d(0, 0, 600)).norm(), 0.05);
   EXPECT_GT(leftFootForce(m.lowerPositionLimit[j] + 0.1, right), 100.0);
+}
+
+TEST(ContactForceObserver, WhatAStretchedLegCannotSenseIsMeasured) {
+  // The right foot carries 600 N along its leg (split evenly between toe and heel), the left
+  // foot nothing. Whatever the posture, the least squares keeps exactly (I − W)·F of an evenly
+  // split foot force F (W: unsensedLoad). With the knee bent W is small; with the knee on its
+  // stop (its row left out) the force along the line from hip to ankle reaches no joint, and W
+  // says so: a large eigenvalue along that line.
+  const model::Model& m = humanoid();
+  const int knee = m.jointId("right_knee");
+  const int j = model::Model::vIndexOfJoint(knee) - 6;
+  const VectorXd v = VectorXd::Zero(m.nv), a = VectorXd::Zero(m.nv);
+  const double lambda = estimatorSettings().contactForceRegularization;  // the profile's
+  auto check = [&](double kneeAngle, double stopTorque) {
+    VectorXd q = standingConfiguration(m);
+    q[7 + j] = kneeAngle;
+    model::Data<double> d(m);
+    prepare(m, d, q, v);
+    const Vector3d hip = d.oMi[m.jointId("right_hip_pitch")].p;
+    const Vector3d ankle = d.oMi[m.jointId("right_ankle_pitch")].p;
+    const Vector3d leg = (hip - ankle).normalized();
+    const Vector3d load = 600.0 * leg;
+    const std::array<Vector3d, kContactPoints> F{Vector3d::Zero(), Vector3d::Zero(), 0.5 * load,
+                                                 0.5 * load};
+    VectorXd tau = torques(m, q, v, a, F);
+    tau[j] -= stopTorque;
+    ContactForceObserver obs(m, contactFrames(m));
+    obs.update(d, v, q.tail(m.nj()), tau, 0.001, 50.0, lambda);
+    const Eigen::Matrix3d& W = obs.unsensedLoad(2);
+    EXPECT_LT((obs.footForce(2) - (Eigen::Matrix3d::Identity() - W) * load).norm(), 1e-6 * 600.0);
+    EXPECT_EQ(W, obs.unsensedLoad(3));
+    // The stance feet's sum counts each foot once.
+    EXPECT_EQ(obs.unsensedLoad(std::array<bool, kContactPoints>{false, false, true, true}), W);
+    EXPECT_EQ(obs.unsensedLoad(std::array<bool, kContactPoints>{false, false, false, true}), W);
+    EXPECT_EQ(obs.unsensedLoad(std::array<bool, kContactPoints>{true, true, true, false}),
+              obs.unsensedLoad(0) + W);
+    EXPECT_EQ(obs.unsensedLoad(std::array<bool, kContactPoints>{}), Eigen::Matrix3d::Zero());
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(W);
+    std::printf("knee %.2f rad: W's eigenvalues %.4f %.4f %.4f, |cos| to the leg %.4f\n",
+                kneeAngle, eig.eigenvalues()[0], eig.eigenvalues()[1], eig.eigenvalues()[2],
+                std::abs(eig.eigenvectors().col(2).dot(leg)));
+    return std::make_pair(eig.eigenvalues()[2], std::abs(eig.eigenvectors().col(2).dot(leg)));
+  };
+  const auto bent = check(0.8, 0.0);
+  EXPECT_LT(bent.first, 0.1);
+  // Not 1: the unsensed force runs through the ankle, and an even split between toe and heel
+  // also has a moment about it, which the ankle senses.
+  const auto onStop = check(m.lowerPositionLimit[j] - 0.05, 200.0);
+  EXPECT_GT(onStop.first, 0.7);
+  EXPECT_GT(onStop.second, 0.99);
 }
 
 }  // namespace
