@@ -18,7 +18,7 @@ void ExternalForceObserver::update(const Eigen::Vector3d& momentum,
   const double c = contactBandwidth > 0.0 ? std::min(1.0, contactBandwidth * dt) : 1.0;
   const Eigen::Vector3d filtered = momentum_ + c * (momentum - momentum_);
   // The load the stance legs could not sense, from the vertical balance (header).
-  // Under kSensed no stance leg misses enough for the balance to say more than its own errors.
+  // Under kSensed nothing is added (header).
   constexpr double kEpsilon = 0.005, kSensed = 1e-3;
   const double wzz = unsensedLoad(2, 2);
   Eigen::Vector3d contacts = contactForceSum;

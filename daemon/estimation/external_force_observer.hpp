@@ -17,10 +17,16 @@
 // direction, and without more that part reads as a push (traced at 1.0 m/s: (−150, +210) N under
 // a true (0, 60) N while a stance knee sat on its stop). Pushes are taken as horizontal, so the
 // vertical balance says how much is missing: with δ = ṗ_f − F̂ − m g at this tick (the contact
-// forces' bandwidth), the missing force is y = W e_z · δ_z / (W_zz + ε), the least one within W's
-// directions that closes the vertical balance (ε keeps a nearly sensed leg from taking the model's
-// vertical errors). W is low-passed like F̂ (K_c), as the part F̂ misses fades in and out at that
-// rate. A vertical push on such a leg is taken for its load.
+// forces' bandwidth), the missing force is y = W e_z · δ_z / (W_zz + ε): the one along W's
+// response to a vertical load that closes the vertical balance. W is the stance feet's sum, so
+// this takes each foot's load as vertical and the feet's loads as alike; during a weight transfer
+// between a bent and a straight leg the horizontal part is shared out approximately. The
+// correction runs through all of stance, not only on straight legs (a leg bent 0.8 rad has
+// W_zz ≈ 0.01 at the profile's λ), and carries the model's vertical errors (a mass off) into the
+// horizontal estimate through W's tilt; ε = 0.005 takes W_zz/(W_zz + ε) of δ_z there (0.67 for
+// one such leg) and nearly all of it on a straight one (0.99). Under W_zz = 1e-3 (λ near the old
+// 1e-6) nothing is added. W is low-passed like F̂ (K_c), as the part F̂ misses fades in and out at
+// that rate. A vertical push on such a leg is taken for its load.
 // What the estimate carries besides a push: the model's errors (a mass or a centre of mass off,
 // an actuator's inertia the model lacks) and the contact forces' own errors. A force under
 // `deadband` (N, horizontal magnitude) reads as none, and the reported force is the excess over
@@ -40,7 +46,7 @@ class ExternalForceObserver {
   /// momentum: m ċ (world, N·s); contactForceSum: Σ F_i on the robot (world, N); weight: m g
   /// (world, N, pointing down); bandwidth: K (1/s); contactBandwidth: K_c of the contact forces'
   /// low-pass (1/s; 0: the momentum unfiltered); unsensedLoad: W of the feet that stand (header;
-  /// world, low-passed like the contact forces), zero when every stance leg senses its load.
+  /// world, low-passed like the contact forces; zero: no correction).
   void update(const Eigen::Vector3d& momentum, const Eigen::Vector3d& contactForceSum,
               const Eigen::Vector3d& weight, double dt, double bandwidth,
               double contactBandwidth = 0.0,

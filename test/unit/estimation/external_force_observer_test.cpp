@@ -93,7 +93,7 @@ TEST(ExternalForceObserver, TheLoadAStretchedLegCannotSenseIsNoPush) {
   const Vector3d told = run(W), blind = run(Eigen::Matrix3d::Zero());
   std::printf("estimate told (%.1f, %.1f) N, not told (%.1f, %.1f) N, true (0, 60) N\n", told.x(),
               told.y(), blind.x(), blind.y());
-  // What is left is W_zz/(W_zz + ε) of the missing force short (external_force_observer.cpp).
+  // The estimate falls ε/(W_zz + ε) of the missing force short (external_force_observer.hpp).
   EXPECT_LT((told - push).norm(), 2.0);
   EXPECT_GT((blind - push).norm(), 100.0);
 }

@@ -136,7 +136,7 @@ TEST(StateEstimator, ScheduledContactNeedsTheForce) {
   EXPECT_TRUE(out.stance[3]);
   // Within what λ leaves out of a bent leg's load (estimator.contact_force_regularization, 1 %
   // along the leg at this knee: contact_force_observer.hpp).
-  EXPECT_NEAR(out.contactForce[2].z(), force[2].z(), 0.05 * force[2].z());
+  EXPECT_NEAR(out.contactForce[2].z(), force[2].z(), 0.02 * force[2].z());  // 1.2 % here
   EXPECT_NEAR(out.contactForce[0].z(), 0.0, 1.0);
   // Not scheduled: not stance, whatever the force.
   in.scheduledStance = {true, true, false, true};
@@ -168,8 +168,7 @@ TEST(StateEstimator, AFootOnItsHeelKeepsItsToeInStance) {
     est.update(in, out);
   }
   for (int c = 0; c < kContactPoints; ++c) EXPECT_TRUE(out.stance[c]) << c;
-  // Within what λ leaves out of the foot's load (the test above).
-  EXPECT_NEAR(out.contactForce[0].z(), 0.0, 0.05 * force[1].z());
+  EXPECT_NEAR(out.contactForce[0].z(), 0.0, 1.0);
 }
 
 TEST(StateEstimator, ALandedFootInPlannedStanceOutlastsAShortDropInItsForce) {
