@@ -11,20 +11,22 @@ void ExternalForceObserver::update(const Eigen::Vector3d& momentum,
   if (!started_ || !(dt > 0.0)) {
     momentum_ = momentum;
     force_.setZero();
+    unsensed_.setZero();
     started_ = true;
     return;
   }
   // p_f: the momentum through the contact forces' low-pass (the same discrete form).
   const double c = contactBandwidth > 0.0 ? std::min(1.0, contactBandwidth * dt) : 1.0;
   const Eigen::Vector3d filtered = momentum_ + c * (momentum - momentum_);
-  // The load the stance legs could not sense, from the vertical balance (header).
-  // Under kSensed nothing is added (header).
+  // The load the stance legs could not sense, from the vertical balance (header); W through the
+  // same low-pass. Under kSensed nothing is added (header).
+  unsensed_ += c * (unsensedLoad - unsensed_);
   constexpr double kEpsilon = 0.005, kSensed = 1e-3;
-  const double wzz = unsensedLoad(2, 2);
+  const double wzz = unsensed_(2, 2);
   Eigen::Vector3d contacts = contactForceSum;
   if (wzz > kSensed) {
     const double deficit = (filtered.z() - momentum_.z()) / dt - contactForceSum.z() - weight.z();
-    contacts += unsensedLoad.col(2) * (deficit / (wzz + kEpsilon));
+    contacts += unsensed_.col(2) * (deficit / (wzz + kEpsilon));
   }
   const double a = std::min(1.0, bandwidth * dt);
   force_ = (1.0 - a) * force_ + bandwidth * (filtered - momentum_) - a * (contacts + weight);

@@ -46,7 +46,7 @@ class ExternalForceObserver {
   /// momentum: m ċ (world, N·s); contactForceSum: Σ F_i on the robot (world, N); weight: m g
   /// (world, N, pointing down); bandwidth: K (1/s); contactBandwidth: K_c of the contact forces'
   /// low-pass (1/s; 0: the momentum unfiltered); unsensedLoad: W of the feet that stand (header;
-  /// world, low-passed like the contact forces; zero: no correction).
+  /// world; low-passed here like the momentum; zero: no correction).
   void update(const Eigen::Vector3d& momentum, const Eigen::Vector3d& contactForceSum,
               const Eigen::Vector3d& weight, double dt, double bandwidth,
               double contactBandwidth = 0.0,
@@ -61,6 +61,7 @@ class ExternalForceObserver {
   bool started_ = false;
   Eigen::Vector3d momentum_ = Eigen::Vector3d::Zero();  ///< p_f at the last update
   Eigen::Vector3d force_ = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d unsensed_ = Eigen::Matrix3d::Zero();  ///< W low-passed (header)
 };
 
 }  // namespace ballast::estimation

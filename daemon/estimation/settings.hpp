@@ -69,9 +69,7 @@ struct EstimatorSettings {
   /// at once. 0: released at the first tick under the release level.
   double contactForceReleaseTime;
   double contactForceBandwidth;  ///< 1/s, the momentum observer's gain (time constant 1/K)
-  /// m², λ of each foot's least squares (contact_force_observer.hpp): a joint torque error of
-  /// ε N·m reads as at most ε/(2√λ) N; what λ leaves out of a nearly straight leg's load the
-  /// external force observer takes from the vertical momentum balance.
+  /// m², λ of each foot's least squares of the contact forces (contact_force_observer.hpp).
   double contactForceRegularization;
   /// External force (external_force_observer.hpp, same kind of observer): horizontal forces
   /// under this read as none (model errors), larger ones are reported less this.

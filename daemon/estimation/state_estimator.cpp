@@ -77,7 +77,6 @@ void StateEstimator::reset(double x, double y) {
   confirmed_.fill(false);
   stance_.fill(false);
   unloaded_.fill(0.0);
-  unsensedLoad_.setZero();
 }
 
 AttitudeFilter::Noise StateEstimator::attitudeNoise() const {
@@ -183,18 +182,18 @@ EstimatorStatus StateEstimator::update(const EstimatorInput& in, EstimatorOutput
   if (!started_) initialiseFilter(in);
 
   // 3. Contact: the schedule, confirmed by the estimated normal force on the point's foot.
-  observer_.update(data_, v_, in.q, in.tau, dt, s.contactForceBandwidth, s.contactForceRegularization);
+  observer_.update(data_, v_, in.q, in.tau, dt, s.contactForceBandwidth,
+                   s.contactForceRegularization);
   {
     // The robot's linear momentum: (M v)[0:3] is it in base axes.
     Vector3d forces = Vector3d::Zero();
     for (int c = 0; c < kContactPoints; ++c) forces += observer_.force(c);
     const Vector3d momentum = Rwb * (data_.M.topRows<3>() * v_);
-    // The stance feet's unsensed load, as of the last tick (this tick's decision reads these
-    // forces).
-    const Eigen::Matrix3d unsensed = observer_.unsensedLoad(stance_);
-    unsensedLoad_ += std::min(1.0, s.contactForceBandwidth * dt) * (unsensed - unsensedLoad_);
+    // The unsensed load of the feet in stance as of the last tick (this tick's decision reads
+    // these forces).
     external_.update(momentum, forces, model_.totalMass() * model_.gravity, dt,
-                     s.externalForceBandwidth, s.contactForceBandwidth, unsensedLoad_);
+                     s.externalForceBandwidth, s.contactForceBandwidth,
+                     observer_.unsensedLoad(stance_));
   }
   // A landed foot that the plan keeps in stance is not dropped by a transient: after a step
   // down the landing bounces and the leg stretches, the estimated force flickers under the

@@ -157,8 +157,6 @@ class StateEstimator {
   Eigen::VectorXd q_, v_;  // model configuration and velocity (base at the origin)
   std::array<Eigen::Vector3d, kContactPoints> d_{}, dDot_{};  // contact points rel. to the IMU point
   std::array<bool, kContactPoints> confirmed_{}, stance_{};
-  /// The stance feet's unsensed load (contact_force_observer.hpp's W), low-passed like the forces.
-  Eigen::Matrix3d unsensedLoad_ = Eigen::Matrix3d::Zero();
   std::array<double, kContactPoints> unloaded_{};  // s a confirmed point's force has been low
   Eigen::Vector3d resetPosition_ = Eigen::Vector3d::Zero();
   double lastTime_ = 0.0;
