@@ -11,6 +11,7 @@
 //   contact_stiffness: 2.0e7          # Pa
 //   integrator: semi_explicit_euler2
 //   accuracy: 1.0e-3
+//   fixed_step: 5.0e-4                # semi_explicit_euler's step
 //   motor_latency_ticks: 1            # (default 0)
 //   terrain_map: maps/lab-stage.bt    # (default "": Config::terrain_map, the planner's map)
 //   initial_clearance: 0.05           # (default 0) drop the robot from 5 cm
@@ -53,6 +54,7 @@ struct SimSettings : schema::Locations {
 
   std::string integrator;
   double accuracy;
+  double fixed_step;
   Vec3d gravity;
 
   int motor_latency_ticks;

@@ -15,8 +15,10 @@ constexpr double kBodyProbeSpacing = 0.1;  // m between probe spheres on a body'
 constexpr double kBodyProbeRadius = 0.01;  // m
 constexpr double kDivergedSpeed = 1e3;     // m/s or rad/s: no robot gets there
 
-std::unique_ptr<SimTK::Integrator> makeIntegrator(const std::string& name,
+std::unique_ptr<SimTK::Integrator> makeIntegrator(const std::string& name, double fixedStep,
                                                   const SimTK::MultibodySystem& system) {
+  if (name == "semi_explicit_euler")
+    return std::make_unique<SimTK::SemiExplicitEulerIntegrator>(system, fixedStep);
   if (name == "rk3") return std::make_unique<SimTK::RungeKutta3Integrator>(system);
   if (name == "rkf") return std::make_unique<SimTK::RungeKuttaFeldbergIntegrator>(system);
   if (name == "semi_explicit_euler2")
@@ -99,7 +101,7 @@ SimbodyWorld::SimbodyWorld(const WorldOptions& options)
       joint.u = mb_->body(joint.body).getFirstUIndex(st);
     }
   }
-  integ_ = makeIntegrator(s.integrator, mb_->system);
+  integ_ = makeIntegrator(s.integrator, s.fixed_step, mb_->system);
   integ_->setAccuracy(s.accuracy);
 
   computeInitialPosture(s);

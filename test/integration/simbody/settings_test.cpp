@@ -79,7 +79,7 @@ TEST(SimSettings, ErrorsSayFileLineColumnKeyAndWhatIsWrong) {
   EXPECT_EQ(errorOf("floor: maybe\n"), "sim.yaml:10:8: floor: expected true or false, got 'maybe'");
   EXPECT_EQ(errorOf("integrator: euler\n"),
             "sim.yaml:10:13: integrator: expected one of "
-            "semi_explicit_euler2|rkm|rk3|rkf|verlet, got 'euler'");
+            "semi_explicit_euler2|semi_explicit_euler|rkm|rk3|rkf|verlet, got 'euler'");
   EXPECT_EQ(errorOf("gravity: [0, -9.81]\n"),
             "sim.yaml:10:10: gravity: expected a list of 3 numbers, got a list of 2");
   EXPECT_EQ(errorOf("gravity: [0, 0, -200]\n"),
