@@ -1,5 +1,6 @@
 // The simulated world: the robot from the URDF (UrdfMultibody), gravity, the terrain and every
-// other force (ForceModel), integrated by a Simbody integrator (error-controlled, or semi-explicit Euler at a fixed step).
+// other force (ForceModel), integrated by a Simbody integrator (error-controlled, or
+// semi-explicit Euler at a fixed step).
 //
 // It knows nothing of ticks or latency (SimbodyBackend does): it applies the motor commands it
 // is given from now on, integrates to a given time, and reports true values.
