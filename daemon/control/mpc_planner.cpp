@@ -112,6 +112,7 @@ void MpcPlanner::plan(const PlannerInput& input, PlannerOutput& output) {
   const double lead = have_previous_ && !fresh ? input.lead : 0.0;
   if (lead > 0.0) predict(input.t, lead);
   const double t = input.t + lead;
+  lead_ = lead;
   output.t = t;
   output.message[0] = '\0';
   // A fresh planner starts its SQP from the references, not from a previous solution: one
@@ -139,6 +140,10 @@ void MpcPlanner::plan(const PlannerInput& input, PlannerOutput& output) {
   }
   previous_ = output.plan;
   have_previous_ = true;
+}
+
+void MpcPlanner::prepare(double t) {
+  if (planner_ && planned_) planner_->prepare(t + lead_);
 }
 
 }  // namespace ballast::control

@@ -43,6 +43,9 @@ class MpcPlanner final : public Planner {
              std::shared_ptr<const terrain::HeightMap> terrain);
 
   void plan(const PlannerInput& input, PlannerOutput& output) override;
+  /// The next plan's SQP preparation (locomotion::LocomotionPlanner::prepare) for an input at
+  /// t with the lead of the last one, after a valid plan.
+  void prepare(double t) override;
 
   /// Any thread but the loop's: the settings for the next rebuild (shared, not copied; a later
   /// request replaces one not yet taken).
@@ -75,6 +78,7 @@ class MpcPlanner final : public Planner {
   double map_tolerance_;  // ControlSettings::map_tolerance
   bool walking_ = false;
   bool planned_ = false;  // the planner has made a plan since it was built
+  double lead_ = 0.0;     // the last plan's lead
   static constexpr int kFreshIterations = 5;
 
   std::mutex pending_mutex_;  // IO thread <-> planner thread only

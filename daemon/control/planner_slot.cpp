@@ -149,6 +149,14 @@ void PlannerSlot::run() {
     output_.publish();
     answered_.store(in.sequence, std::memory_order_release);
     sem_post(&answer_);
+    // Real time, the next input's time is not known ahead (and its plan starts a measured
+    // solve time after it): nothing to prepare for.
+    if (!lockstep_) continue;
+    try {
+      planner_->prepare(in.t + period_);
+    } catch (...) {
+      // Only the next plan's speed is lost: it computes what the preparation would have.
+    }
   }
 }
 

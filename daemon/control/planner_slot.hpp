@@ -11,7 +11,9 @@
 // other), and its answer is taken at t_k + latency exactly (planner.latency: the delay a real
 // solve has), waiting for it then if it is not there yet. Whatever the wall-clock speed of
 // either thread, the loop sees the same plans at the same ticks, so a lockstep run with one seed
-// is bit-for-bit repeatable. latency <= 1/rate: at most one input is in flight.
+// is bit-for-bit repeatable. latency <= 1/rate: at most one input is in flight. Between an
+// answer and the next input, whose time lockstep knows (1/rate later), the planner prepares
+// for it (Planner::prepare): the ticks the loop runs meanwhile are the planner's idle time.
 #pragma once
 
 #include <semaphore.h>
@@ -30,6 +32,9 @@ class Planner {
  public:
   virtual ~Planner() = default;
   virtual void plan(const PlannerInput& input, PlannerOutput& output) = 0;
+  /// After an answer, while the thread waits: work ahead for an input expected at controller
+  /// time t (it must not change that plan, only make it sooner). None by default.
+  virtual void prepare(double /*t*/) {}
 };
 
 class PlannerSlot {

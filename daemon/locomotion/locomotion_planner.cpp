@@ -409,7 +409,6 @@ void LocomotionPlanner::fillReferences(double t, const gait::PlanarPose& start,
                                        const LocomotionCommand& command) {
   const CentroidalLayout L{model_.nj(), kNumContacts};
   const double m = model_.totalMass();
-  const double g = -model_.gravity.z();
   const double dt = settings_.sqp.dt;
   const double izz = data_.oYcrb[0].inertiaAboutCom()(2, 2);
   const double height = command.height > 0.0 ? command.height : settings_.nominalHeight;
@@ -420,7 +419,6 @@ void LocomotionPlanner::fillReferences(double t, const gait::PlanarPose& start,
     const double tk = t + k * dt;
     mpc::NodeReference& r = refs[k];
     const gait::ContactFlags flags = schedule_.flagsAt(tk);
-    int stanceCount = 0;
     // The ground the feet stand on at t_k (a swinging point: where it lands), which the base's
     // height is above: stepping onto a stage, the terrain under the base put the base over the
     // floor with a foot already on the stage, that leg crouched by the whole step (its knee and
@@ -429,7 +427,6 @@ void LocomotionPlanner::fillReferences(double t, const gait::PlanarPose& start,
     double support = 0.0;
     for (int c = 0; c < kNumContacts; ++c) {
       r.stance[c] = flags[c];
-      stanceCount += flags[c];
       // At the interval's middle, where the problems evaluate the swing and the lever arms.
       const gait::PointReference p = swings_.reference(c, tk + 0.5 * dt);
       r.contactPosition[c] = p.position;
@@ -459,10 +456,30 @@ void LocomotionPlanner::fillReferences(double t, const gait::PlanarPose& start,
     r.externalForce = swings_.parameters().rule == gait::FootholdRule::kCapturePoint
                           ? externalForce_
                           : Eigen::Vector3d::Zero();
-    r.u.setZero();
-    for (int c = 0; c < kNumContacts; ++c)
-      if (flags[c] && stanceCount > 0) r.u[L.force(c) + 2] = m * g / stanceCount;
+    weightOnStance(flags, r.u);
   }
+}
+
+void LocomotionPlanner::weightOnStance(const gait::ContactFlags& flags, Eigen::VectorXd& u) const {
+  const double m = model_.totalMass();
+  const double g = -model_.gravity.z();
+  int stanceCount = 0;
+  for (int c = 0; c < kNumContacts; ++c) stanceCount += flags[c];
+  u.setZero();
+  for (int c = 0; c < kNumContacts; ++c)
+    if (flags[c]) u[CentroidalLayout::force(c) + 2] = m * g / stanceCount;
+}
+
+void LocomotionPlanner::prepare(double t) {
+  // The references as the next update() sets them if the contact schedule holds: their modes
+  // and forces, all the SQP's preparation reads.
+  auto& refs = sqp_->references();
+  for (int k = 0; k <= settings_.sqp.nodes; ++k) {
+    const gait::ContactFlags flags = schedule_.flagsAt(t + k * settings_.sqp.dt);
+    std::copy(flags.begin(), flags.end(), refs[k].stance.begin());
+    weightOnStance(flags, refs[k].u);
+  }
+  sqp_->prepare(t);
 }
 
 PlanSampler::PlanSampler(const model::Model& model,

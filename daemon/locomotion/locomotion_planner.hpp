@@ -136,6 +136,11 @@ class LocomotionPlanner {
   bool update(double t, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
               const LocomotionCommand& command, Plan& plan);
 
+  /// Between update()s: the SQP's preparation for the next one, at controller time t, on the
+  /// contact schedule as it is (mpc::SqpSolver::prepare). Nothing changes but how soon that
+  /// update() is done.
+  void prepare(double t);
+
   /// The estimated external force on the robot (world, N) for the next update()s: the footholds
   /// lean into it (gait/step_adjustment.hpp).
   void setExternalForce(const Eigen::Vector3d& force) { externalForce_ = force; }
@@ -164,6 +169,8 @@ class LocomotionPlanner {
   gait::PlanarPose referenceStart(double t, const Eigen::VectorXd& x,
                                   const LocomotionCommand& command, double feetYaw);
   void fillReferences(double t, const gait::PlanarPose& start, const LocomotionCommand& command);
+  /// u_ref: the weight shared by the stance points of `flags`, nothing else.
+  void weightOnStance(const gait::ContactFlags& flags, Eigen::VectorXd& u) const;
 
   const model::Model& model_;
   LocomotionSettings settings_;

@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -29,7 +30,9 @@ NodeWorkspace::NodeWorkspace(const KinodynamicProblem& problem)
       axisDx(3, problem.nx()),
       axisRow(problem.nx()),
       xError(problem.nx()),
-      uError(problem.nu()) {}
+      uError(problem.nu()),
+      derivativesX(problem.nx()),
+      derivativesU(problem.nu()) {}
 
 KinodynamicProblem::KinodynamicProblem(const model::Model& model,
                                        const std::array<int, kNumContacts>& contactFrames,
@@ -52,6 +55,7 @@ void KinodynamicProblem::setSettings(const ProblemSettings& s) {
   if (soleMoments(s) != soles_)
     throw std::invalid_argument("kino-dynamic problem: line feet and soles with width are different problems");
   settings_ = s;
+  ++settingsVersion_;
   terminalWeights_ = s.terminalWeightScale * s.stateWeights;
 }
 
@@ -104,11 +108,16 @@ void KinodynamicProblem::addSoleMoments(NodeWorkspace& ws, const Eigen::VectorXd
   }
 }
 
-void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
-                                 const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt,
-                                 LqNode* node, NodeValue& value) const {
+namespace {
+bool sameBits(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  return a.size() == b.size() &&
+         std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())) == 0;
+}
+}  // namespace
+
+void KinodynamicProblem::dynamics(NodeWorkspace& ws, const Eigen::VectorXd& x,
+                                  const Eigen::VectorXd& u, double dt, bool derivatives) const {
   const CentroidalLayout L{model_.nj(), kNumContacts};
-  const ProblemSettings& s = settings_;
   const int nj = model_.nj();
   // Everything that depends on the configuration is evaluated at the interval's joint midpoint
   // x_mid = x + (dt/2)·[0; 0; v_j] (see the header); ∂x_mid/∂v_j = (dt/2)·I on the joints.
@@ -116,8 +125,8 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
   ws.xMid.segment(L.kJoints, nj).noalias() += 0.5 * dt * u.segment(L.jointVelocity(), nj);
   // The line search (no node) needs values only: no Jacobians, the same values.
   model::centroidalDynamicsDerivatives(model_, ws.data, contactFrames_, ws.xMid, u, ws.xdot, ws.Ax,
-                                       ws.Bu, node != nullptr);
-  if (!node) {
+                                       ws.Bu, derivatives);
+  if (!derivatives) {
     for (int c = 0; c < kNumContacts; ++c) {  // as frameKinematicsZyx has them
       model::FrameKinematicsZyx& k = ws.contacts[c];
       k.position = model::framePlacement(model_, ws.data, contactFrames_[c]).p;
@@ -140,8 +149,32 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
       ws.dPosition_du[c].middleCols(L.jointVelocity(), nj) = half * k.dPosition_dx.middleCols(L.kJoints, nj);
     }
   }
-  ws.xdot.head<3>() += ref.externalForce;  // constant: no derivative
+  ws.haveDerivatives = derivatives;
+  if (!derivatives) return;
+  ws.derivativesX = x;
+  ws.derivativesU = u;
+  ws.derivativesDt = dt;
+}
+
+void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
+                                 const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt,
+                                 LqNode* node, NodeValue& value) const {
+  const CentroidalLayout L{model_.nj(), kNumContacts};
+  const ProblemSettings& s = settings_;
+  // The dynamics' derivatives, unless this workspace has them at this point; the node's
+  // matrices, unless it also linearised this node last at this point, in this contact mode and
+  // with these settings (SqpSolver::prepare): then only its vectors.
+  const bool sameDerivatives = node && ws.haveDerivatives && ws.derivativesDt == dt &&
+                               sameBits(ws.derivativesX, x) && sameBits(ws.derivativesU, u);
+  ws.usedPreparation = sameDerivatives && ws.matricesNode == node &&
+                       ws.matricesStance == ref.stance && ws.matricesSettings == settingsVersion_;
+  const bool matrices = node && !ws.usedPreparation;
+  if (!sameDerivatives) dynamics(ws, x, u, dt, node != nullptr);
+  ws.matricesNode = node;
+  ws.matricesStance = ref.stance;
+  ws.matricesSettings = settingsVersion_;
   value.xdot = ws.xdot;
+  value.xdot.head<3>() += ref.externalForce;  // constant: no derivative
 
   // Equalities: contact-point velocities (5 per foot) and swing forces.
   double eq2 = 0.0;
@@ -151,8 +184,8 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
                      const model::Mat3X<double>& dx, const model::Mat3X<double>& du) {
     for (const Eigen::Index a : axes) {
       eq2 += residual[a] * residual[a];
-      if (node) {
-        node->e[row] = residual[a];
+      if (node) node->e[row] = residual[a];
+      if (matrices) {
         node->C.row(row) = dx.row(a);
         node->D.row(row) = du.row(a);
       }
@@ -177,13 +210,13 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
       residual = k.velocity;
       model::Mat3X<double>& dx = combined ? ws.pointDx[c - toe] : ws.rowDx;
       model::Mat3X<double>& du = combined ? ws.pointDu[c - toe] : ws.rowDu;
-      if (node) {
+      if (matrices) {
         dx = k.dVelocity_dx;
         du = k.dVelocity_du;
       }
       if (!ref.stance[c]) {  // v − (ṗ* + k_p (p* − p))
         residual -= ref.swingVelocity[c] + s.swingPositionGain * (ref.swingPosition[c] - k.position);
-        if (node) {
+        if (matrices) {
           dx += s.swingPositionGain * k.dPosition_dx;
           du += s.swingPositionGain * ws.dPosition_du[c];
         }
@@ -199,13 +232,13 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
     if (combined) {
       // Middle: the mean of the two conditions; pitch: their difference along the vertical.
       ws.rowResidual = 0.5 * (ws.pointResidual[0] + ws.pointResidual[1]);
-      if (node) {
+      if (matrices) {
         ws.rowDx = 0.5 * (ws.pointDx[0] + ws.pointDx[1]);
         ws.rowDu = 0.5 * (ws.pointDu[0] + ws.pointDu[1]);
       }
       putRows({0, 1, 2}, ws.rowResidual, ws.rowDx, ws.rowDu);
       ws.rowResidual = ws.pointResidual[0] - ws.pointResidual[1];
-      if (node) {
+      if (matrices) {
         ws.rowDx = ws.pointDx[0] - ws.pointDx[1];
         ws.rowDu = ws.pointDu[0] - ws.pointDu[1];
       }
@@ -216,8 +249,8 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
     if (ref.stance[c]) continue;
     const Eigen::Vector3d f = u.segment<3>(L.force(c));
     eq2 += f.squaredNorm();
-    if (node) {
-      node->e.segment<3>(row) = f;
+    if (node) node->e.segment<3>(row) = f;
+    if (matrices) {
       node->C.middleRows<3>(row).setZero();
       node->D.middleRows<3>(row).setZero();
       node->D.block<3, 3>(row, L.force(c)).setIdentity();
@@ -228,8 +261,8 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
     if (standsOnSole(ref, foot)) continue;
     const int i = soleMoment(foot);
     eq2 += u[i] * u[i];
-    if (node) {
-      node->e[row] = u[i];
+    if (node) node->e[row] = u[i];
+    if (matrices) {
       node->C.row(row).setZero();
       node->D.row(row).setZero();
       node->D(row, i) = 1.0;
@@ -244,7 +277,7 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
   const Eigen::VectorXd& ex = ws.xError;
   const Eigen::VectorXd& eu = ws.uError;
   double cost = 0.5 * dt * (ex.dot(s.stateWeights.cwiseProduct(ex)) + eu.dot(s.inputWeights.cwiseProduct(eu)));
-  if (node) {
+  if (matrices) {
     node->neq = row;
     node->A.setIdentity();
     node->A.noalias() += dt * ws.Ax;
@@ -252,6 +285,8 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
     node->Q = (dt * s.stateWeights).asDiagonal();
     node->R = (dt * s.inputWeights).asDiagonal();
     node->S.setZero();
+  }
+  if (node) {
     node->q = dt * s.stateWeights.cwiseProduct(ex);
     node->r = dt * s.inputWeights.cwiseProduct(eu);
   }
@@ -265,7 +300,8 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
       cost += dt * b.value(h);
       if (!node) return;
       node->r.segment<3>(i) += dt * b.firstDerivative(h) * grad;
-      node->R.block<3, 3>(i, i).noalias() += dt * b.secondDerivative(h) * grad * grad.transpose();
+      if (matrices)
+        node->R.block<3, 3>(i, i).noalias() += dt * b.secondDerivative(h) * grad * grad.transpose();
     };
     const double tangential = std::sqrt(f.x() * f.x() + f.y() * f.y() + s.frictionRegularization);
     barrier(s.frictionCoefficient * f.z() - tangential,
@@ -287,6 +323,7 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
       const double d1 = dt * b.firstDerivative(h), d2 = dt * b.secondDerivative(h);
       for (int r = 0; r < 3; ++r) {
         node->r[at[r]] += d1 * grad[r];
+        if (!matrices) continue;
         for (int c = 0; c < 3; ++c) node->R(at[r], at[c]) += d2 * grad[r] * grad[c];
       }
     }
@@ -297,7 +334,8 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
     cost += dt * b.value(h);
     if (!node) return;
     (onState ? node->q[index] : node->r[index]) += dt * b.firstDerivative(h) * sign;
-    (onState ? node->Q(index, index) : node->R(index, index)) += dt * b.secondDerivative(h);
+    if (matrices)
+      (onState ? node->Q(index, index) : node->R(index, index)) += dt * b.secondDerivative(h);
   };
   for (int j = 0; j < model_.nj(); ++j) {
     const double qj = x[L.kJoints + j];
@@ -329,6 +367,7 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
     const double d2 = dt * s.collisionBarrier.secondDerivative(h);
     node->q += d1 * ws.gradX;
     node->r += d1 * ws.gradU;
+    if (!matrices) continue;
     node->Q.noalias() += d2 * ws.gradX * ws.gradX.transpose();
     node->S.noalias() += d2 * ws.gradU * ws.gradX.transpose();
     node->R.noalias() += d2 * ws.gradU * ws.gradU.transpose();

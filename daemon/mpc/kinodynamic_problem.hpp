@@ -116,6 +116,15 @@ struct NodeWorkspace : ProblemWorkspace {
   model::Mat3X<double> axisDx;                      ///< scratch: ∂(a sole's toe-heel line)/∂x
   Eigen::RowVectorXd axisRow;                       ///< scratch: aᵀ axisDx
   Eigen::VectorXd xError, uError;                   ///< scratch: x − x_ref (yaw wrapped), u − u_ref
+  /// The point (x, u, dt) at which xdot (without the external force), Ax, Bu, contacts and
+  /// dPosition_du hold their derivatives (linearize()); forgotten when evaluate() overwrites them.
+  Eigen::VectorXd derivativesX, derivativesU;
+  double derivativesDt = 0.0;
+  bool haveDerivatives = false;
+  /// The node linearize() wrote its matrices into last, with which contact mode and settings.
+  const LqNode* matricesNode = nullptr;
+  StanceFlags matricesStance{};
+  unsigned matricesSettings = 0;
 };
 
 class KinodynamicProblem final : public OptimalControlProblem {
@@ -149,6 +158,8 @@ class KinodynamicProblem final : public OptimalControlProblem {
                 const Eigen::VectorXd& u, double dt, NodeValue& value) const override;
   void linearize(ProblemWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
                  const Eigen::VectorXd& u, double dt, LqNode& node, NodeValue& value) const override;
+  /// Its node matrices depend on x, u, dt, the contact mode and the settings alone.
+  bool keepsMatrices() const override { return true; }
   double terminalCost(ProblemWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
                       LqNode* node) const override;
   /// Zero force on a point that became a swing, the reference force on a new stance.
@@ -156,6 +167,11 @@ class KinodynamicProblem final : public OptimalControlProblem {
                         Eigen::VectorXd& u) const override;
 
  private:
+  /// ws.xdot = f(x_mid, u) without the external force, and ws.contacts' positions and
+  /// velocities; with derivatives also Ax, Bu, the contacts' Jacobians and dPosition_du, through
+  /// x_mid (see the header), and ws remembers the point.
+  void dynamics(NodeWorkspace& ws, const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt,
+                bool derivatives) const;
   void compute(NodeWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
                const Eigen::VectorXd& u, double dt, LqNode* node, NodeValue& value) const;
   /// A foot stands on its sole (both its points in stance) and the sole has width.
@@ -169,6 +185,7 @@ class KinodynamicProblem final : public OptimalControlProblem {
   Eigen::VectorXd terminalWeights_;  ///< diag(Q_N) = terminalWeightScale · stateWeights
   int nx_, nu_;
   int soles_;  ///< soleMoments(): inputs of the soles' moments, 0 or 2
+  unsigned settingsVersion_ = 0;  ///< counts setSettings(): a node's matrices are of one
 };
 
 }  // namespace ballast::mpc

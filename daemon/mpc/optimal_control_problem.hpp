@@ -37,9 +37,13 @@ struct NodeValue {
   double equalityNorm2 = 0.0;  ///< ‖g(x, u)‖²
 };
 
-/// Per-thread scratch a problem needs to evaluate nodes.
+/// Scratch a problem needs to evaluate nodes: one per thread for values, one per node for
+/// linearisations (where a problem may keep what it can use again, prepareLinearization()).
 struct ProblemWorkspace {
   virtual ~ProblemWorkspace() = default;
+  /// Set by linearize(): it left the node's matrices as its last linearisation of that node
+  /// made them (see there).
+  bool usedPreparation = false;
 };
 
 class OptimalControlProblem {
@@ -54,10 +58,17 @@ class OptimalControlProblem {
   virtual void evaluate(ProblemWorkspace& ws, const NodeReference& ref, const Eigen::VectorXd& x,
                         const Eigen::VectorXd& u, double dt, NodeValue& value) const = 0;
   /// Stage node linearised: A = I + dt ∂f/∂x, B = dt ∂f/∂u, equalities, quadratic cost model.
-  /// node.b is left for the caller. Also returns the value.
+  /// node.b is left for the caller. Also returns the value. A problem may use what it computed
+  /// last with the same workspace: where the node, x, u and dt are the same to the bit and so
+  /// is ref.stance, the matrices (A, B, C, D, Q, R, S and neq) depend on nothing else and it
+  /// may leave them as they are, computing only the vectors (e, q, r) and the value; it then
+  /// sets ws.usedPreparation (the SQP's preparation, sqp_solver.hpp, relies on this). So a
+  /// node's matrices must not be changed between its linearisations by anyone else.
+  /// keepsMatrices(): whether it does.
   virtual void linearize(ProblemWorkspace& ws, const NodeReference& ref,
                          const Eigen::VectorXd& x, const Eigen::VectorXd& u, double dt,
                          LqNode& node, NodeValue& value) const = 0;
+  virtual bool keepsMatrices() const { return false; }
   /// Terminal cost, and its quadratic model in node.Q, node.q if node is given.
   virtual double terminalCost(ProblemWorkspace& ws, const NodeReference& ref,
                               const Eigen::VectorXd& x, LqNode* node) const = 0;

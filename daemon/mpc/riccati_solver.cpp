@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 
 namespace ballast::mpc {
 
@@ -17,12 +18,14 @@ IndexList indices(const std::vector<int>& v) {
 
 RiccatiSolver::RiccatiSolver(int horizonNodes, int nx, int nu)
     : N_(horizonNodes), nx_(nx), nu_(nu), proj_(horizonNodes), L_(horizonNodes), G_(horizonNodes),
-      g_(horizonNodes), P_(nx, nx), M_(nx, nx + nu), H_(nx + nu, nx + nu), p_(nx), Pb_(nx),
-      y_(nx + nu), w_(nu), CtDx_(nu), KcDx_(nu), ZKw_(nu) {
+      g_(horizonNodes), P_(horizonNodes + 1, Eigen::MatrixXd::Zero(nx, nx)), swept_(horizonNodes),
+      M_(nx, nx + nu), H_(nx + nu, nx + nu), p_(nx), Pb_(nx), y_(nx + nu), w_(nu), CtDx_(nu),
+      KcDx_(nu), ZKw_(nu) {
   for (int k = 0; k < N_; ++k) {
     Projected& p = proj_[k];
     for (auto* v : {&p.free, &p.constrained, &p.fixed, &p.general}) v->reserve(nu);
     p.kind.resize(nu);
+    p.fixedBy.resize(nu);
     L_[k].resize(nu, nu);
     G_[k].resize(nu, nx);
     g_[k].resize(nu);
@@ -49,13 +52,19 @@ void RiccatiSolver::useSizes(Projected& p, const Sizes& sizes) {
 }
 
 bool RiccatiSolver::project(int k, const LqNode& n) {
+  if (!projectMatrices(k, n)) return false;
+  projectVectors(k, n);
+  return true;
+}
+
+bool RiccatiSolver::projectMatrices(int k, const LqNode& n) {
   Projected& p = proj_[k];
+  ++p.generation;
   const int m = n.neq;
   // Sort inputs: fixed by a unit row, constrained by the other rows, or free.
   enum Kind : char { kFree, kFixed, kConstrained };
   std::fill(p.kind.begin(), p.kind.end(), kFree);
   p.general.clear();
-  p.kc.setZero(nu_);
   for (int r = 0; r < m; ++r) {
     int entries = 0, column = -1;
     for (int j = 0; j < nu_; ++j)
@@ -63,7 +72,7 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
     if (entries == 1 && n.C.row(r).isZero(0.0)) {
       if (p.kind[column] == kFixed) return false;  // two rows fix the same input
       p.kind[column] = kFixed;
-      p.kc[column] = -n.e[r] / n.D(r, column);
+      p.fixedBy[column] = r;
     } else {
       if (entries == 0) return false;  // a row no input can satisfy
       p.general.push_back(r);
@@ -114,13 +123,9 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
   const int mg = static_cast<int>(general.size());
   if (nK < mg) return false;
   const int nz = nK - mg;
-  // The general rows with the fixed inputs substituted: D_K δu_K + C δx + e' = 0.
   // Qfull = [Y Z_K] from the QR of D_Kᵀ; every product with Y and with Z_K below is taken with
   // Qfull at once (one larger product instead of two small ones), and its parts read from that.
   if (mg > 0) {
-    s.ePrime = n.e(indices(general));
-    for (int r = 0; r < mg; ++r)
-      for (int j : p.fixed) s.ePrime[r] += n.D(general[r], j) * p.kc[j];
     const auto pivots = s.qr.matrixQR().diagonal().head(mg).cwiseAbs();
     if (!(pivots.minCoeff() > 1e-9 * std::max(1.0, pivots.maxCoeff()))) return false;
     s.Qfull.resize(nK, nK);
@@ -131,10 +136,6 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
     s.ZK = s.Qfull.rightCols(nz);
     s.Ct = -n.C(indices(general), Eigen::all);
     Rt.solveInPlace(s.Ct);
-    s.ct = -s.ePrime;
-    Rt.solveInPlace(s.ct);
-    s.kcK.noalias() = s.Y * s.ct;
-    p.kc(K) = s.kcK;
   } else {
     s.Y.resize(nK, 0);
     s.Ct.resize(0, nx_);
@@ -153,8 +154,6 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
   A.noalias() += s.BQ.leftCols(mg) * s.Ct;
   B.leftCols(nF) = n.B(Eigen::all, F);
   B.rightCols(nz) = s.BQ.rightCols(nz);
-  p.b = n.b;
-  p.b.noalias() += n.B * p.kc;
 
   // Cost in (δx, w), with Kc_K = Y Ct:
   //   Q' = Q + Kcᵀ S_K + S_Kᵀ Kc + Kcᵀ R_KK Kc = Q + Ctᵀ W + Wᵀ Ct,  W = Yᵀ S_K + ½ (Yᵀ R_KK Y) Ct
@@ -180,13 +179,6 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
     s.CW.bottomRows(mg) = W;
     p.Q.triangularView<Eigen::Lower>() += s.CW.transpose() * s.WC;
   }
-  p.Rkc.noalias() = n.R * p.kc;
-  s.rK = n.r(K) + p.Rkc(K);
-  p.q = n.q;
-  p.q.noalias() += n.S.transpose() * p.kc;
-  s.ct.noalias() = s.Y.transpose() * s.rK;
-  p.q.noalias() += s.Ct.transpose() * s.ct;
-
   s.RFK = n.R(F, K);
   s.S.resize(p.nw, nx_);
   s.S.topRows(nF) = n.S(F, Eigen::all);
@@ -198,10 +190,42 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
   s.R.topLeftCorner(nF, nF) = n.R(F, F);
   s.R.bottomLeftCorner(nz, nF).noalias() = s.ZK.transpose() * s.RFK.transpose();
   s.R.bottomRightCorner(nz, nz).triangularView<Eigen::Lower>() = s.T.bottomRightCorner(nz, nz);
+  return true;
+}
+
+void RiccatiSolver::projectVectors(int k, const LqNode& n) {
+  Projected& p = proj_[k];
+  SizedMatrices& s = p.sized();
+  const auto& general = p.general;
+  const IndexList K = indices(p.constrained), F = indices(p.free);
+  const int nF = static_cast<int>(F.size());
+  const int mg = static_cast<int>(general.size());
+  const int nz = p.nw - nF;
+  p.kc.setZero(nu_);
+  for (int j : p.fixed) p.kc[j] = -n.e[p.fixedBy[j]] / n.D(p.fixedBy[j], j);
+  // The general rows with the fixed inputs substituted: D_K δu_K + C δx + e' = 0.
+  if (mg > 0) {
+    s.ePrime = n.e(indices(general));
+    for (int r = 0; r < mg; ++r)
+      for (int j : p.fixed) s.ePrime[r] += n.D(general[r], j) * p.kc[j];
+    const auto Rt =
+        s.qr.matrixQR().topLeftCorner(mg, mg).triangularView<Eigen::Upper>().transpose();
+    s.ct = -s.ePrime;
+    Rt.solveInPlace(s.ct);
+    s.kcK.noalias() = s.Y * s.ct;
+    p.kc(K) = s.kcK;
+  }
+  p.b = n.b;
+  p.b.noalias() += n.B * p.kc;
+  p.Rkc.noalias() = n.R * p.kc;
+  s.rK = n.r(K) + p.Rkc(K);
+  p.q = n.q;
+  p.q.noalias() += n.S.transpose() * p.kc;
+  s.ct.noalias() = s.Y.transpose() * s.rK;
+  p.q.noalias() += s.Ct.transpose() * s.ct;
   s.r.resize(p.nw);
   s.r.head(nF) = n.r(F) + p.Rkc(F);
   s.r.tail(nz).noalias() = s.ZK.transpose() * s.rK;
-  return true;
 }
 
 void RiccatiSolver::inputStep(const Projected& p, const Eigen::VectorXd& dx, const Eigen::VectorXd& w,
@@ -239,44 +263,78 @@ bool RiccatiSolver::sweep(const std::vector<LqNode>& nodes, const Eigen::VectorX
 }
 
 void RiccatiSolver::beginSweep(const LqNode& terminal) {
-  P_ = terminal.Q;
+  beginMatrixSweep(terminal);
   p_ = terminal.q;
+  keptSweeps_ = 0;
 }
 
-bool RiccatiSolver::sweepNode(int k) {
+bool RiccatiSolver::sweepNode(int k, bool sameMatrices) {
+  if (sameMatrices && swept_[k] == proj_[k].generation) {
+    ++keptSweeps_;
+  } else if (!sweepMatrices(k)) {
+    return false;
+  }
+  sweepVectors(k);
+  return true;
+}
+
+void RiccatiSolver::beginMatrixSweep(const LqNode& terminal) {
+  // A node's sweep is kept only on the same P after it: on a terminal Q the same to the bit.
+  Eigen::MatrixXd& PN = P_[N_];
+  if (PN.size() == terminal.Q.size() &&
+      std::memcmp(PN.data(), terminal.Q.data(), sizeof(double) * PN.size()) == 0)
+    return;
+  PN = terminal.Q;
+  std::fill(swept_.begin(), swept_.end(), 0);
+}
+
+bool RiccatiSolver::sweepMatrices(int k) {
+  // The nodes below are swept on this one's P: theirs were of another, until swept again.
+  std::fill(swept_.begin(), swept_.begin() + k + 1, 0);  // no projection's generation
   const int nx = nx_;
   const Projected& n = proj_[k];
   const SizedMatrices& s = n.sized();
   const int nw = n.nw, nab = nx + nw;
+  const Eigen::MatrixXd& Pnext = P_[k + 1];
   // H = [A B]ᵀ P [A B] (lower triangle): AᵀPA, BᵀPA and BᵀPB in one product.
   auto M = M_.leftCols(nab);
-  M.noalias() = P_ * s.AB;
+  M.noalias() = Pnext * s.AB;
   auto H = H_.topLeftCorner(nab, nab);
   H.triangularView<Eigen::Lower>() = s.AB.transpose() * M;
-  Pb_ = p_;
-  Pb_.noalias() += P_ * n.b;  // P b + p
-  auto y = y_.head(nab);
-  y.noalias() = s.AB.transpose() * Pb_;  // [Aᵀ; Bᵀ] (P b + p)
   auto Huu = L_[k].topLeftCorner(nw, nw);
   auto G = G_[k].topRows(nw);
-  auto g = g_[k].head(nw);
   Huu.triangularView<Eigen::Lower>() = s.R + H.bottomRightCorner(nw, nw);
   G = s.S + H.bottomLeftCorner(nw, nx);
-  g = s.r + y.tail(nw);
-  // H_uu = L Lᵀ (in place); G = L⁻¹ H_ux, g = L⁻¹ h_u (K = −L⁻ᵀ G, k = −L⁻ᵀ g).
+  // H_uu = L Lᵀ (in place); G = L⁻¹ H_ux (K = −L⁻ᵀ G).
   Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>, Eigen::Lower> llt(Huu);
   if (llt.info() != Eigen::Success) return false;
   const auto L = Huu.triangularView<Eigen::Lower>();
   L.solveInPlace(G);
-  L.solveInPlace(g);
-  // P ← Q + AᵀPA − GᵀG (Hux_ᵀ K = −GᵀG);  p ← q + Aᵀ(P b + p) − Gᵀ g
-  P_.triangularView<Eigen::Lower>() = n.Q + H.topLeftCorner(nx, nx);
-  P_.selfadjointView<Eigen::Lower>().rankUpdate(G.transpose(), -1.0);
+  // P ← Q + AᵀPA − GᵀG (Hux_ᵀ K = −GᵀG).
+  Eigen::MatrixXd& P = P_[k];
+  P.triangularView<Eigen::Lower>() = n.Q + H.topLeftCorner(nx, nx);
+  P.selfadjointView<Eigen::Lower>().rankUpdate(G.transpose(), -1.0);
   for (int j = 1; j < nx; ++j)
-    for (int i = 0; i < j; ++i) P_(i, j) = P_(j, i);
-  p_ = n.q + y.head(nx);
-  p_.noalias() -= G.transpose() * g;
+    for (int i = 0; i < j; ++i) P(i, j) = P(j, i);
+  swept_[k] = n.generation;
   return true;
+}
+
+void RiccatiSolver::sweepVectors(int k) {
+  const int nx = nx_;
+  const Projected& n = proj_[k];
+  const SizedMatrices& s = n.sized();
+  const int nw = n.nw, nab = nx + nw;
+  Pb_ = p_;
+  Pb_.noalias() += P_[k + 1] * n.b;  // P b + p
+  auto y = y_.head(nab);
+  y.noalias() = s.AB.transpose() * Pb_;  // [Aᵀ; Bᵀ] (P b + p)
+  auto g = g_[k].head(nw);
+  g = s.r + y.tail(nw);
+  // g = L⁻¹ h_u (k = −L⁻ᵀ g);  p ← q + Aᵀ(P b + p) − Gᵀ g
+  L_[k].topLeftCorner(nw, nw).triangularView<Eigen::Lower>().solveInPlace(g);
+  p_ = n.q + y.head(nx);
+  p_.noalias() -= G_[k].topRows(nw).transpose() * g;
 }
 
 void RiccatiSolver::forwardPass(const std::vector<LqNode>& nodes, const Eigen::VectorXd& dx0,

@@ -53,8 +53,15 @@ class RiccatiSolver {
              std::vector<Eigen::VectorXd>& dx, std::vector<Eigen::VectorXd>& du);
 
   /// Step 1 for node k alone (nodes are independent: callers may run these in parallel).
-  /// Returns false if the node's equality rows are (numerically) rank deficient.
+  /// Returns false if the node's equality rows are (numerically) rank deficient. The same as
+  /// projectMatrices() then projectVectors().
   bool project(int k, const LqNode& node);
+  /// Step 1's part that reads the node's matrices only (A, B, C, D, Q, R, S): the kinds of
+  /// inputs, the QR and the projected matrices, most of its work. False as project().
+  bool projectMatrices(int k, const LqNode& node);
+  /// The rest, on the node's vectors (b, e, q, r), after a projectMatrices(k) that returned true
+  /// on a node with the same matrices to the bit (the SQP's preparation: sqp_solver.hpp).
+  void projectVectors(int k, const LqNode& node);
   /// Steps 2 and 3, after project() ran on nodes 0..N-1: beginSweep, sweepNode(N−1..0),
   /// forwardPass. Same result as taking them one by one.
   bool sweep(const std::vector<LqNode>& nodes, const Eigen::VectorXd& dx0,
@@ -63,8 +70,21 @@ class RiccatiSolver {
   /// Step 2, one node at a time: beginSweep with the terminal node (nodes[N]), then
   /// sweepNode(k) for k = N−1 down to 0, each after project(k). sweepNode returns false if
   /// node k's projected Hessian is not positive definite (the sweep cannot go on).
+  /// The recursion's matrices (P, and the factors of K) depend on the projected matrices only.
+  /// sameMatrices: node k's projected matrices are those of its last sweep (only its vectors
+  /// were projected since, projectVectors()). Such a node on the same P after it as then (the
+  /// same terminal Q to the bit, and every node between kept too) keeps the matrices of that
+  /// sweep, and only its vectors are swept (the SQP's preparation: sqp_solver.hpp), with the
+  /// same result.
   void beginSweep(const LqNode& terminal);
-  bool sweepNode(int k);
+  bool sweepNode(int k, bool sameMatrices = false);
+  /// The matrices' part of step 2 alone, for nodes N−1 down to some node, each after its
+  /// projectMatrices(): beginMatrixSweep, then sweepMatrices(k) from N−1 down; false as
+  /// sweepNode. A sweep after it keeps them where sameMatrices holds.
+  void beginMatrixSweep(const LqNode& terminal);
+  bool sweepMatrices(int k);
+  /// Nodes whose matrices the last sweep kept.
+  int keptSweeps() const { return keptSweeps_; }
   /// Step 3, after sweepNode(0).
   void forwardPass(const std::vector<LqNode>& nodes, const Eigen::VectorXd& dx0,
                    std::vector<Eigen::VectorXd>& dx, std::vector<Eigen::VectorXd>& du);
@@ -101,6 +121,7 @@ class RiccatiSolver {
   struct Projected {
     std::vector<int> free, constrained, fixed, general;  ///< inputs by kind; general D rows
     std::vector<char> kind;                              ///< per input (scratch)
+    std::vector<int> fixedBy;                            ///< per fixed input: its row of D
     Eigen::VectorXd kc;         ///< nu
     /// Q holds its lower triangle only (all the sweep reads).
     Eigen::MatrixXd Q;
@@ -108,11 +129,14 @@ class RiccatiSolver {
     int nw = 0;
     std::array<SizedMatrices, kSizeSets> sets;
     int current = 0;  ///< the set of the node's present sizes
+    unsigned long generation = 0;  ///< counts projectMatrices() calls
     long clock = 0;   ///< counts useSizes calls, for lastUsed
     SizedMatrices& sized() { return sets[current]; }
     const SizedMatrices& sized() const { return sets[current]; }
   };
   void useSizes(Projected& p, const Sizes& sizes);
+  /// sweepNode's part on the vectors, after node k's matrices are swept.
+  void sweepVectors(int k);
   /// δu for a state deviation and w (step 1 undone).
   void inputStep(const Projected& p, const Eigen::VectorXd& dx, const Eigen::VectorXd& w,
                  Eigen::VectorXd& du);
@@ -123,7 +147,13 @@ class RiccatiSolver {
   // g = L⁻¹ h_u, so that w = −L⁻ᵀ (g + G δx) without forming K = −L⁻ᵀ G.
   std::vector<Eigen::MatrixXd> L_, G_;
   std::vector<Eigen::VectorXd> g_;
-  Eigen::MatrixXd P_, M_, H_;
+  /// P_k per node, k = 0..N (P_N: the terminal Q), kept from sweep to sweep.
+  std::vector<Eigen::MatrixXd> P_;
+  /// Per node: the generation of the projection L_, G_ and P_[k] were swept from, on P_[k + 1]
+  /// as it is; 0: none (the sweep's thread alone reads and writes these).
+  std::vector<unsigned long> swept_;
+  int keptSweeps_ = 0;
+  Eigen::MatrixXd M_, H_;
   Eigen::VectorXd p_, Pb_, y_, w_;
   Eigen::VectorXd CtDx_, KcDx_, ZKw_;  ///< inputStep's scratch (nu each)
   RiccatiTimings timings_;

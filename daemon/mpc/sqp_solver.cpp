@@ -36,11 +36,14 @@ SqpSolver::SqpSolver(const OptimalControlProblem& problem, const SqpSettings& se
       nodeCost_(settings.nodes + 1),
       nodeViolation2_(settings.nodes + 1),
       projected_(settings.nodes),
+      matricesProjected_(settings.nodes),
+      sameMatrices_(settings.nodes),
       projectionDone_(settings.nodes),
       linearizeCpuMs_(pool_.threads()),
       projectionCpuMs_(pool_.threads()) {
   for (int t = 0; t < pool_.threads(); ++t)
     workspaces_.push_back(problem.makeWorkspace());
+  for (int k = 0; k < settings.nodes; ++k) nodeWorkspaces_.push_back(problem.makeWorkspace());
   for (auto& r : references_) {
     r.x = Eigen::VectorXd::Zero(problem.nx());
     r.u = Eigen::VectorXd::Zero(problem.nu());
@@ -73,6 +76,34 @@ void SqpSolver::warmStart(double t0, const Eigen::VectorXd& xMeasured) {
   x_[0] = xMeasured;
 }
 
+void SqpSolver::prepare(double t0) {
+  if (!hasSolution_ || !problem_.keepsMatrices()) return;
+  const int N = settings_.nodes;
+  // x_ and u_ are free between iterations (solution_ holds their copies). Node 0 will be the
+  // measured state. Each node is linearised in its expected mode (the references' vectors do
+  // not matter: only its matrices are kept), its matrices projected, and the sweep's matrices
+  // follow, as iterate() does it.
+  warmStart(t0, solution_.x[0]);
+  riccati_.beginMatrixSweep(lq_[N]);  // Q_N is the same at every iteration
+  sweepNext_ = N - 1;
+  sweepLast_ = 1;
+  sweepOk_ = true;
+  for (auto& done : projectionDone_) done.store(false, std::memory_order_relaxed);
+  auto prepareNode = [&](int i, int thread) {
+    const int k = N - 1 - i;
+    matricesProjected_[k] = false;  // until its new matrices are
+    problem_.linearize(*nodeWorkspaces_[k], references_[k], x_[k], u_[k], settings_.dt, lq_[k],
+                       values_[k]);
+    matricesProjected_[k] = riccati_.projectMatrices(k, lq_[k]);
+    projectionDone_[k].store(true, std::memory_order_release);
+    if (thread == 0) sweepProjected(true);
+  };
+  pool_.run(N - 1, prepareNode);
+  sweepProjected(true);
+  prepared_ = true;
+  preparedT0_ = t0;
+}
+
 SqpSolver::Merit SqpSolver::evaluate(const std::vector<Eigen::VectorXd>& x,
                                      const std::vector<Eigen::VectorXd>& u) {
   const int N = settings_.nodes;
@@ -98,12 +129,13 @@ SqpSolver::Merit SqpSolver::evaluate(const std::vector<Eigen::VectorXd>& x,
   return m;
 }
 
-void SqpSolver::sweepProjected() {
+void SqpSolver::sweepProjected(bool matricesOnly) {
   const auto begin = Clock::now();
-  while (sweepOk_ && sweepNext_ >= 0 &&
+  while (sweepOk_ && sweepNext_ >= sweepLast_ &&
          projectionDone_[sweepNext_].load(std::memory_order_acquire)) {
     const int k = sweepNext_--;
-    sweepOk_ = projected_[k] && riccati_.sweepNode(k);
+    sweepOk_ = matricesOnly ? matricesProjected_[k] && riccati_.sweepMatrices(k)
+                            : projected_[k] && riccati_.sweepNode(k, sameMatrices_[k]);
   }
   sweepCpuMs_ += msSince(begin);
 }
@@ -114,7 +146,11 @@ bool SqpSolver::iterate(double t0, const Eigen::VectorXd& xMeasured) {
   const double dt = settings_.dt;
   stats_ = SqpStatistics{};
   if (!xMeasured.allFinite()) return fail("the measured state has a NaN or infinite entry");
-  warmStart(t0, xMeasured);
+  // Prepared for (about) this time: the warm start is taken on the prepared grid, so that it
+  // is the point prepared.
+  const bool onPrepared = prepared_ && std::abs(t0 - preparedT0_) < kSameTime;
+  prepared_ = false;
+  warmStart(onPrepared ? preparedT0_ : t0, xMeasured);
 
   // Linearise and project every node in parallel, from the last one down, while the calling
   // thread takes the backward Riccati sweep over those done (sweepProjected): the sweep, serial,
@@ -123,6 +159,7 @@ bool SqpSolver::iterate(double t0, const Eigen::VectorXd& xMeasured) {
   const double terminal = problem_.terminalCost(*workspaces_[0], references_[N], x_[N], &lq_[N]);
   riccati_.beginSweep(lq_[N]);
   sweepNext_ = N - 1;
+  sweepLast_ = 0;
   sweepOk_ = true;
   sweepCpuMs_ = 0.0;
   for (auto& done : projectionDone_) done.store(false, std::memory_order_relaxed);
@@ -131,19 +168,28 @@ bool SqpSolver::iterate(double t0, const Eigen::VectorXd& xMeasured) {
   auto linearize = [&](int i, int thread) {
     const int k = N - 1 - i;
     const auto begin = Clock::now();
-    problem_.linearize(*workspaces_[thread], references_[k], x_[k], u_[k], dt, lq_[k], values_[k]);
+    ProblemWorkspace& ws = *nodeWorkspaces_[k];
+    problem_.linearize(ws, references_[k], x_[k], u_[k], dt, lq_[k], values_[k]);
     lq_[k].b = x_[k] + dt * values_[k].xdot - x_[k + 1];
     const auto linearized = Clock::now();
-    projected_[k] = riccati_.project(k, lq_[k]);
+    sameMatrices_[k] = ws.usedPreparation && matricesProjected_[k];
+    if (sameMatrices_[k]) {  // the matrices projected before
+      riccati_.projectVectors(k, lq_[k]);
+      projected_[k] = true;
+    } else {
+      projected_[k] = matricesProjected_[k] = riccati_.project(k, lq_[k]);
+    }
     linearizeCpuMs_[thread] += std::chrono::duration<double, std::milli>(linearized - begin).count();
     projectionCpuMs_[thread] += msSince(linearized);
     projectionDone_[k].store(true, std::memory_order_release);
-    if (thread == 0) sweepProjected();
+    if (thread == 0) sweepProjected(false);
   };
   pool_.run(N, linearize);
-  sweepProjected();  // the nodes the other threads finished last
+  sweepProjected(false);  // the nodes the other threads finished last
   const double wall = msSince(t);
   double linearizeCpu = 0.0, projectionCpu = 0.0;
+  for (int k = 0; k < N; ++k) stats_.preparedNodes += sameMatrices_[k];
+  stats_.preparedSweeps = riccati_.keptSweeps();
   for (int i = 0; i < pool_.threads(); ++i) {
     linearizeCpu += linearizeCpuMs_[i];
     projectionCpu += projectionCpuMs_[i];

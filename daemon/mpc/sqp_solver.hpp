@@ -19,6 +19,19 @@
 //      no acceptable step from an infeasible iterate), keep the previous solution and report
 //      why. A feasible iterate that no step improves is converged: kept, with step 0.
 // The caller fills references() for the N+1 node times before each call.
+//
+// prepare(t0), between iterations (real-time iteration's preparation phase): most of steps 2
+// and 3, done ahead while the caller waits for its next measurement. A node's matrices
+// (dynamics, equality Jacobians, cost Hessians), their projection and the sweep's matrices
+// depend on the nodes' points (x, u) and contact modes only; the rest of the references enters
+// only the vectors (residuals, gradients). The caller fills references() with what it expects
+// at t0: their contact modes, and the inputs step 1 gives a point whose mode changes
+// (OptimalControlProblem::adaptInputToMode); their other values are not used. prepare takes
+// the warm start step 1 would take, linearises nodes 1..N−1 there, projects their matrices
+// and sweeps them. An iterate() at that t0 then computes only the vectors of each node whose
+// warm start is that point to the bit in the mode prepared (all but node 0 where the
+// expectation held), and sweeps only the vectors from the last node down to the first that
+// changed: the same plan to the bit, sooner.
 #pragma once
 
 #include <atomic>
@@ -55,6 +68,8 @@ struct SqpStatistics {
   double riccatiMs = 0.0;
   double lineSearchMs = 0.0;
   double totalMs = 0.0;
+  int preparedNodes = 0;       ///< nodes whose matrices and their projection were prepared
+  int preparedSweeps = 0;      ///< of them, nodes whose part of the sweep was prepared too
   double cost = 0.0;           ///< after the step
   double violation = 0.0;      ///< sqrt(Σ‖defects‖² + Σ‖equalities‖²) after the step
   double step = 0.0;           ///< accepted step length, 0 if none
@@ -72,8 +87,18 @@ class SqpSolver {
 
   /// One SQP iteration from the measured state at time t0. Returns statistics().ok.
   bool iterate(double t0, const Eigen::VectorXd& xMeasured);
+  /// Ahead of iterate(t0, ·), on references() as the caller expects them at t0: see the header.
+  /// Nothing before the first solution, nor for a
+  /// problem that does not keep its nodes' matrices (OptimalControlProblem::keepsMatrices). An
+  /// iterate() whose t0 is within kSameTime of this one takes its warm start on this t0's grid.
+  void prepare(double t0);
+  /// Start times this close count as one (they are sums of periods, with their rounding), s.
+  static constexpr double kSameTime = 1e-6;
   /// Forgets the previous solution (next iterate starts from the references).
-  void reset() { hasSolution_ = false; }
+  void reset() {
+    hasSolution_ = false;
+    prepared_ = false;
+  }
 
   const MpcSolution& solution() const { return solution_; }
   const SqpStatistics& statistics() const { return stats_; }
@@ -86,13 +111,18 @@ class SqpSolver {
   void warmStart(double t0, const Eigen::VectorXd& xMeasured);
   Merit evaluate(const std::vector<Eigen::VectorXd>& x, const std::vector<Eigen::VectorXd>& u);
   bool fail(const std::string& why);
-  /// On the calling thread: the backward sweep over the nodes projected since it last ran.
-  void sweepProjected();
+  /// On the calling thread: the backward sweep over the nodes projected since it last ran (down
+  /// to sweepLast_); matricesOnly: its matrices' part (prepare()).
+  void sweepProjected(bool matricesOnly);
 
   const OptimalControlProblem& problem_;
   SqpSettings settings_;
   ParallelFor pool_;
-  std::vector<std::unique_ptr<ProblemWorkspace>> workspaces_;  ///< one per thread
+  std::vector<std::unique_ptr<ProblemWorkspace>> workspaces_;  ///< one per thread: values
+  /// One per node: its linearisations, and what prepare() did for the next one.
+  std::vector<std::unique_ptr<ProblemWorkspace>> nodeWorkspaces_;
+  bool prepared_ = false;  ///< prepare() ran since the last iterate(), for preparedT0_
+  double preparedT0_ = 0.0;
   RiccatiSolver riccati_;
   std::vector<NodeReference> references_;
   std::vector<LqNode> lq_;
@@ -102,9 +132,15 @@ class SqpSolver {
   Eigen::VectorXd zeroDx0_;  ///< the LQ step starts at the measured state: δx₀ = 0
   std::vector<double> nodeCost_, nodeViolation2_;
   std::vector<char> projected_;
+  /// Per node: its matrices, as they are in lq_, are projected (RiccatiSolver::projectMatrices).
+  std::vector<char> matricesProjected_;
+  /// Per node, this iteration: its matrices are the ones projected before (and, where the sweep
+  /// keeps them, swept).
+  std::vector<char> sameMatrices_;
   /// Per node: its projection is done (set by the thread that projected it, read by the sweep).
   std::vector<std::atomic<bool>> projectionDone_;
   int sweepNext_ = -1;      ///< the next node the backward sweep takes
+  int sweepLast_ = 0;       ///< the last node it takes
   bool sweepOk_ = true;     ///< no projection failed and every Hessian so far was definite
   double sweepCpuMs_ = 0.0;
   /// Per thread: CPU time (ms) of this iteration spent linearising and projecting nodes.

@@ -1,7 +1,9 @@
 // The MPC (paper Sec. II-A): one node's linearisation and projection, the Riccati sweep, and a
-// whole SQP iteration. Paper: 6.85 ms per SQP iteration (OCS2, i7-13650HX); goal here ≤ 3 ms
-// median on 2 cores, with a 1 s horizon.
+// whole SQP iteration, unprepared and prepared for. Paper: 6.85 ms per SQP iteration (OCS2,
+// i7-13650HX); goal here ≤ 3 ms median on 2 cores, with a 1 s horizon.
 #include <benchmark/benchmark.h>
+
+#include <chrono>
 
 #include "control/settings.hpp"
 #include "locomotion/locomotion_planner.hpp"
@@ -105,8 +107,11 @@ namespace {
 /// own plan (a perfect tracker), one planner period (10 ms) per benchmark iteration. The split
 /// is reported as counters (ms per iteration, averaged): linearisation and projection (the
 /// parallel pass over the nodes, its wall time split by the CPU time of each), Riccati sweep,
-/// line search.
-void mpcIteration(benchmark::State& st, const char* profilePath) {
+/// line search. prepared: each iteration is prepared for beforehand, untimed (the SQP's
+/// preparation, as ballastd's planner does it in lockstep between a plan and the next state):
+/// the time is the iteration's feedback part, prepare_ms the preparation's, and prepared_nodes
+/// and prepared_sweeps say on how many of the nodes it was used (mean per iteration).
+void mpcIteration(benchmark::State& st, const char* profilePath, bool prepared = false) {
   using namespace ballast;
   const model::Model& m = test::humanoid();
   const profile::Profile p = profile::Profile::load(std::string(BALLAST_SOURCE_DIR) + profilePath);
@@ -140,8 +145,10 @@ void mpcIteration(benchmark::State& st, const char* profilePath) {
     planner.update(t, q, v, command, plan);
     follow();
   }
-  double linearize = 0, projection = 0, riccati = 0, lineSearch = 0;
+  double linearize = 0, projection = 0, riccati = 0, lineSearch = 0, prepare = 0;
+  double preparedNodes = 0, preparedSweeps = 0;
   int failures = 0;
+  if (prepared) planner.prepare(t);
   for (auto _ : st) {
     failures += !planner.update(t, q, v, command, plan);
     st.PauseTiming();
@@ -150,7 +157,15 @@ void mpcIteration(benchmark::State& st, const char* profilePath) {
     projection += s.projectionMs;
     riccati += s.riccatiMs;
     lineSearch += s.lineSearchMs;
+    preparedNodes += s.preparedNodes;
+    preparedSweeps += s.preparedSweeps;
     follow();
+    if (prepared) {
+      const auto begin = std::chrono::steady_clock::now();
+      planner.prepare(t);
+      prepare += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - begin)
+                     .count();
+    }
     st.ResumeTiming();
   }
   const double n = static_cast<double>(st.iterations());
@@ -160,9 +175,19 @@ void mpcIteration(benchmark::State& st, const char* profilePath) {
   st.counters["line_search_ms"] = lineSearch / n;
   st.counters["failures"] = failures;
   st.counters["nodes"] = settings.locomotion.sqp.nodes;
+  if (!prepared) return;
+  st.counters["prepare_ms"] = prepare / n;
+  st.counters["prepared_nodes"] = preparedNodes / n;
+  st.counters["prepared_sweeps"] = preparedSweeps / n;
 }
 void BM_MpcIteration(benchmark::State& st) { mpcIteration(st, "/profiles/sim-flat.yaml"); }
 BENCHMARK(BM_MpcIteration)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// The same iteration prepared for (see mpcIteration): what is left of it once the state comes.
+void BM_MpcPreparedIteration(benchmark::State& st) {
+  mpcIteration(st, "/profiles/sim-flat.yaml", true);
+}
+BENCHMARK(BM_MpcPreparedIteration)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 /// The same for the paper's cI planner (planner.model single_rigid_body, profiles/study/cI.yaml):
 /// the convex MPC of one rigid body on the same grid, gait and threads.

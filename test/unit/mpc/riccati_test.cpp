@@ -113,6 +113,60 @@ TEST(RiccatiSolver, MatchesTheKktSolutionWithStructuredEqualities) {
   }
 }
 
+// The SQP's preparation: a node's matrices projected and swept ahead, its vectors later. Kept
+// sweeps give the solution of the whole solve to the bit, and the sweep keeps a node's matrices
+// only on the same P after it: a node whose matrices changed is swept again, and so is every
+// node before it.
+TEST(RiccatiSolver, SweepsKeptOnTheSameMatricesGiveTheSolutionOfAFullSolve) {
+  std::mt19937 rng(7);
+  const int N = 12, nx = 6, nu = 7, maxEq = 4;
+  auto nodes = testing::randomLqProblem(
+      N, nx, nu, maxEq, [](int k) { return k % 3 == 0 ? 0 : 4; }, rng);
+  for (int k = 0; k < N; ++k) {  // a unit row fixes input 3: projectVectors' own part
+    if (nodes[k].neq == 0) continue;
+    nodes[k].D.row(0).setZero();
+    nodes[k].D(0, 3) = 1.5;
+    nodes[k].C.row(0).setZero();
+    nodes[k].D.col(3).tail(3).setZero();
+  }
+  const Eigen::VectorXd dx0 = Eigen::VectorXd::Random(nx);
+  RiccatiSolver prepared(N, nx, nu);
+  std::vector<Eigen::VectorXd> dx, du, dxRef, duRef;
+  ASSERT_TRUE(prepared.solve(nodes, dx0, dx, du));  // as a preparation would leave it
+  // New vectors on every node; node `changed`'s matrices too (at the end: none).
+  for (const int changed : {N, 7, 0}) {
+    SCOPED_TRACE(changed);
+    for (auto& n : nodes) {
+      n.b = Eigen::VectorXd::Random(nx);
+      n.e = Eigen::VectorXd::Random(maxEq);
+      n.q = Eigen::VectorXd::Random(nx);
+      n.r = Eigen::VectorXd::Random(nu);
+    }
+    if (changed < N) nodes[changed].A += 0.1 * Eigen::MatrixXd::Random(nx, nx);
+    prepared.beginSweep(nodes[N]);
+    for (int k = N - 1; k >= 0; --k) {
+      const bool same = k != changed;
+      if (same) {
+        prepared.projectVectors(k, nodes[k]);
+      } else {
+        ASSERT_TRUE(prepared.project(k, nodes[k]));
+      }
+      ASSERT_TRUE(prepared.sweepNode(k, same));
+    }
+    prepared.forwardPass(nodes, dx0, dx, du);
+    EXPECT_EQ(prepared.keptSweeps(), changed == N ? N : N - 1 - changed);  // the nodes after it
+    RiccatiSolver fresh(N, nx, nu);
+    ASSERT_TRUE(fresh.solve(nodes, dx0, dxRef, duRef));
+    for (int k = 0; k < N; ++k) {
+      ASSERT_EQ(dx[k], dxRef[k]) << k;
+      ASSERT_EQ(du[k], duRef[k]) << k;
+    }
+    // And it is the problem's solution.
+    testing::solveByKkt(nodes, dx0, dxRef, duRef);
+    testing::expectKktSolution(dx, du, dxRef, duRef);
+  }
+}
+
 // A general row (nearly) dependent on the rows before it in its inputs is dropped, as if the
 // node had not had it (the KKT solution of the problem without it), where a projection that met it
 // would divide by its sine to the others (legs without hip yaw: both feet's yaw rates are the

@@ -3,6 +3,7 @@
 // converges to static equilibrium.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 
 #include "model/algorithms.hpp"
@@ -391,6 +392,81 @@ TEST_F(Kinodynamic, TheSolutionIsTheSameOnOneThreadAsOnSeveral) {
         ASSERT_EQ(solutions[i].u[k], solutions[0].u[k]) << "threads " << i + 1 << ", node " << k;
       }
     }
+}
+
+TEST_F(Kinodynamic, APreparedIterationGivesThePlanOfAnUnpreparedOneToTheBit) {
+  // SqpSolver::prepare linearises, projects and sweeps, at the warm start of the next grid in
+  // the contact modes expected there, all that does not depend on the rest of the references;
+  // the iteration computes that rest, and whole the nodes whose point or mode is not the one
+  // prepared. A walking horizon (soles with width) whose swings move with time; once, the
+  // schedule is not the one expected (a step comes sooner, as the step timing does it).
+  KinodynamicProblem problem(m, frames, settings(0.1));
+  SqpSettings s = test::controlDefaults().locomotion.sqp;
+  s.nodes = 30;
+  s.dt = 0.02;
+  s.threads = 2;
+  SqpSolver plain(problem, s), prepared(problem, s);
+  model::Data<double> d(m);
+  model::forwardKinematics(m, d, qStand);
+  auto walk = [&](SqpSolver& sqp, double t0, double sooner) {
+    for (int k = 0; k <= s.nodes; ++k) {
+      NodeReference& r = sqp.references()[k];
+      r = standingReference(problem.nu());
+      if (std::fmod(t0 + k * s.dt + sooner, 0.3) < 0.15) continue;  // both feet stand
+      r.stance = {false, false, true, true};
+      for (int c : {0, 1}) {
+        r.u[L.force(c) + 2] = 0.0;
+        r.swingPosition[c] =
+            model::framePlacement(m, d, frames[c]).p + Eigen::Vector3d(0.0, 0.0, 0.03);
+        r.swingVelocity[c] = Eigen::Vector3d(0.0, 0.0, 0.1);
+      }
+      for (int c : {2, 3}) r.u[L.force(c) + 2] = m.totalMass() * 9.81 / 2;
+    }
+  };
+  model::Vec6<double> h;
+  h << 4.0, -2.0, 1.0, 0.5, 0.3, -0.2;
+  const int unexpected = 4;  // the iteration whose schedule moved
+  double sooner = 0.0;
+  for (int it = 0; it < 8; ++it) {
+    SCOPED_TRACE(it);
+    const double t0 = 0.01 * it;
+    if (it > 0) {
+      walk(prepared, t0, sooner);
+      prepared.prepare(t0);
+    }
+    if (it == unexpected) sooner = 0.05;
+    walk(plain, t0, sooner);
+    walk(prepared, t0, sooner);
+    const Eigen::VectorXd x0 = stateOf(qStand, (1.0 - 0.1 * it) * h);
+    ASSERT_TRUE(plain.iterate(t0, x0)) << plain.statistics().message;
+    ASSERT_TRUE(prepared.iterate(t0, x0)) << prepared.statistics().message;
+    for (int k = 0; k <= s.nodes; ++k) {
+      ASSERT_EQ(prepared.solution().x[k], plain.solution().x[k]) << "node " << k;
+      if (k < s.nodes) {
+        ASSERT_EQ(prepared.solution().u[k], plain.solution().u[k]) << "node " << k;
+      }
+    }
+    // Used on every node but the measured one where the expectation held, on none before the
+    // first that changed in the sweep where it did not.
+    const SqpStatistics& st = prepared.statistics();
+    if (it == 0) {
+      EXPECT_EQ(st.preparedNodes, 0);
+    } else if (it != unexpected) {
+      EXPECT_EQ(st.preparedNodes, s.nodes - 1);
+      EXPECT_EQ(st.preparedSweeps, s.nodes - 1);
+    } else {
+      EXPECT_GT(st.preparedNodes, s.nodes / 2);
+      EXPECT_LT(st.preparedNodes, s.nodes - 1);
+      EXPECT_LT(st.preparedSweeps, st.preparedNodes);
+    }
+  }
+  // A start time off by less than SqpSolver::kSameTime (rounding: times are sums of periods)
+  // is the one prepared for.
+  const double t0 = 0.08;
+  walk(prepared, t0, sooner);
+  prepared.prepare(t0 + 1e-9);
+  ASSERT_TRUE(prepared.iterate(t0, stateOf(qStand, model::Vec6<double>::Zero())));
+  EXPECT_EQ(prepared.statistics().preparedNodes, s.nodes - 1);
 }
 
 TEST_F(Kinodynamic, AnIterationAllocatesNothingOnceItsNodesHaveTheirSizes) {
