@@ -38,7 +38,7 @@ struct NodeValue {
 };
 
 /// Scratch a problem needs to evaluate nodes: one per thread for values, one per node for
-/// linearisations (where a problem may keep what it can use again, prepareLinearization()).
+/// linearisations (where a problem may keep what it can use again: linearize()).
 struct ProblemWorkspace {
   virtual ~ProblemWorkspace() = default;
   /// Set by linearize(): it left the node's matrices as its last linearisation of that node
