@@ -2,7 +2,6 @@
 
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <stdexcept>
 #include <string>
 
@@ -108,13 +107,6 @@ void KinodynamicProblem::addSoleMoments(NodeWorkspace& ws, const Eigen::VectorXd
   }
 }
 
-namespace {
-bool sameBits(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  return a.size() == b.size() &&
-         std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())) == 0;
-}
-}  // namespace
-
 void KinodynamicProblem::dynamics(NodeWorkspace& ws, const Eigen::VectorXd& x,
                                   const Eigen::VectorXd& u, double dt, bool derivatives) const {
   const CentroidalLayout L{model_.nj(), kNumContacts};
@@ -166,13 +158,11 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
   // with these settings (SqpSolver::prepare): then only its vectors.
   const bool sameDerivatives = node && ws.haveDerivatives && ws.derivativesDt == dt &&
                                sameBits(ws.derivativesX, x) && sameBits(ws.derivativesU, u);
-  ws.usedPreparation = sameDerivatives && ws.matricesNode == node &&
-                       ws.matricesStance == ref.stance && ws.matricesSettings == settingsVersion_;
-  const bool matrices = node && !ws.usedPreparation;
+  ws.keptMatrices = sameDerivatives && ws.matricesNode == node && ws.matricesStance == ref.stance &&
+                    ws.matricesSettings == settingsVersion_;
+  const bool matrices = node && !ws.keptMatrices;
   if (!sameDerivatives) dynamics(ws, x, u, dt, node != nullptr);
-  ws.matricesNode = node;
-  ws.matricesStance = ref.stance;
-  ws.matricesSettings = settingsVersion_;
+  ws.matricesNode = nullptr;  // until the node's matrices are written, at the end
   value.xdot = ws.xdot;
   value.xdot.head<3>() += ref.externalForce;  // constant: no derivative
 
@@ -373,6 +363,9 @@ void KinodynamicProblem::compute(NodeWorkspace& ws, const NodeReference& ref,
     node->R.noalias() += d2 * ws.gradU * ws.gradU.transpose();
   }
   value.cost = cost;
+  ws.matricesNode = node;
+  ws.matricesStance = ref.stance;
+  ws.matricesSettings = settingsVersion_;
 }
 
 double KinodynamicProblem::terminalCost(ProblemWorkspace& ws, const NodeReference& ref,

@@ -9,8 +9,17 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cstring>
 
 namespace ballast::mpc {
+
+/// a and b are the same numbers to the bit, sizes included: work kept from one solve to the next
+/// (SqpSolver::prepare) is used again only on them.
+template <class A, class B>
+bool sameBits(const Eigen::PlainObjectBase<A>& a, const Eigen::PlainObjectBase<B>& b) {
+  return a.rows() == b.rows() && a.cols() == b.cols() &&
+         std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<std::size_t>(a.size())) == 0;
+}
 
 struct LqNode {
   Eigen::MatrixXd A, B, C, D, Q, R, S;

@@ -41,9 +41,9 @@ struct NodeValue {
 /// linearisations (where a problem may keep what it can use again: linearize()).
 struct ProblemWorkspace {
   virtual ~ProblemWorkspace() = default;
-  /// Set by linearize(): it left the node's matrices as its last linearisation of that node
+  /// Set by linearize(): it kept the node's matrices as its last linearisation of that node
   /// made them (see there).
-  bool usedPreparation = false;
+  bool keptMatrices = false;
 };
 
 class OptimalControlProblem {
@@ -62,7 +62,7 @@ class OptimalControlProblem {
   /// last with the same workspace: where the node, x, u and dt are the same to the bit and so
   /// is ref.stance, the matrices (A, B, C, D, Q, R, S and neq) depend on nothing else and it
   /// may leave them as they are, computing only the vectors (e, q, r) and the value; it then
-  /// sets ws.usedPreparation (the SQP's preparation, sqp_solver.hpp, relies on this). So a
+  /// sets ws.keptMatrices (the SQP's preparation, sqp_solver.hpp, relies on this). So a
   /// node's matrices must not be changed between its linearisations by anyone else.
   /// keepsMatrices(): whether it does.
   virtual void linearize(ProblemWorkspace& ws, const NodeReference& ref,

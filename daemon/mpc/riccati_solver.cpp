@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstring>
 
 namespace ballast::mpc {
 
@@ -60,6 +59,7 @@ bool RiccatiSolver::project(int k, const LqNode& n) {
 bool RiccatiSolver::projectMatrices(int k, const LqNode& n) {
   Projected& p = proj_[k];
   ++p.generation;
+  p.matricesProjected = false;
   const int m = n.neq;
   // Sort inputs: fixed by a unit row, constrained by the other rows, or free.
   enum Kind : char { kFree, kFixed, kConstrained };
@@ -190,6 +190,7 @@ bool RiccatiSolver::projectMatrices(int k, const LqNode& n) {
   s.R.topLeftCorner(nF, nF) = n.R(F, F);
   s.R.bottomLeftCorner(nz, nF).noalias() = s.ZK.transpose() * s.RFK.transpose();
   s.R.bottomRightCorner(nz, nz).triangularView<Eigen::Lower>() = s.T.bottomRightCorner(nz, nz);
+  p.matricesProjected = true;
   return true;
 }
 
@@ -281,9 +282,7 @@ bool RiccatiSolver::sweepNode(int k, bool sameMatrices) {
 void RiccatiSolver::beginMatrixSweep(const LqNode& terminal) {
   // A node's sweep is kept only on the same P after it: on a terminal Q the same to the bit.
   Eigen::MatrixXd& PN = P_[N_];
-  if (PN.size() == terminal.Q.size() &&
-      std::memcmp(PN.data(), terminal.Q.data(), sizeof(double) * PN.size()) == 0)
-    return;
+  if (sameBits(PN, terminal.Q)) return;
   PN = terminal.Q;
   std::fill(swept_.begin(), swept_.end(), 0);
 }

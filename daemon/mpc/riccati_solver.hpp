@@ -59,6 +59,9 @@ class RiccatiSolver {
   /// Step 1's part that reads the node's matrices only (A, B, C, D, Q, R, S): the kinds of
   /// inputs, the QR and the projected matrices, most of its work. False as project().
   bool projectMatrices(int k, const LqNode& node);
+  /// The last projectMatrices(k) (or project(k)) got through the matrices: what it returned,
+  /// or would have.
+  bool matricesProjected(int k) const { return proj_[k].matricesProjected; }
   /// The rest, on the node's vectors (b, e, q, r), after a projectMatrices(k) that returned true
   /// on a node with the same matrices to the bit (the SQP's preparation: sqp_solver.hpp).
   void projectVectors(int k, const LqNode& node);
@@ -130,6 +133,7 @@ class RiccatiSolver {
     std::array<SizedMatrices, kSizeSets> sets;
     int current = 0;  ///< the set of the node's present sizes
     unsigned long generation = 0;  ///< counts projectMatrices() calls
+    bool matricesProjected = false;  ///< the last projectMatrices() returned true
     long clock = 0;   ///< counts useSizes calls, for lastUsed
     SizedMatrices& sized() { return sets[current]; }
     const SizedMatrices& sized() const { return sets[current]; }

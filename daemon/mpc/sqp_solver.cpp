@@ -36,7 +36,6 @@ SqpSolver::SqpSolver(const OptimalControlProblem& problem, const SqpSettings& se
       nodeCost_(settings.nodes + 1),
       nodeViolation2_(settings.nodes + 1),
       projected_(settings.nodes),
-      matricesProjected_(settings.nodes),
       sameMatrices_(settings.nodes),
       projectionDone_(settings.nodes),
       linearizeCpuMs_(pool_.threads()),
@@ -91,10 +90,9 @@ void SqpSolver::prepare(double t0) {
   for (auto& done : projectionDone_) done.store(false, std::memory_order_relaxed);
   auto prepareNode = [&](int i, int thread) {
     const int k = N - 1 - i;
-    matricesProjected_[k] = false;  // until its new matrices are
     problem_.linearize(*nodeWorkspaces_[k], references_[k], x_[k], u_[k], settings_.dt, lq_[k],
                        values_[k]);
-    matricesProjected_[k] = riccati_.projectMatrices(k, lq_[k]);
+    riccati_.projectMatrices(k, lq_[k]);
     projectionDone_[k].store(true, std::memory_order_release);
     if (thread == 0) sweepProjected(true);
   };
@@ -134,7 +132,7 @@ void SqpSolver::sweepProjected(bool matricesOnly) {
   while (sweepOk_ && sweepNext_ >= sweepLast_ &&
          projectionDone_[sweepNext_].load(std::memory_order_acquire)) {
     const int k = sweepNext_--;
-    sweepOk_ = matricesOnly ? matricesProjected_[k] && riccati_.sweepMatrices(k)
+    sweepOk_ = matricesOnly ? riccati_.matricesProjected(k) && riccati_.sweepMatrices(k)
                             : projected_[k] && riccati_.sweepNode(k, sameMatrices_[k]);
   }
   sweepCpuMs_ += msSince(begin);
@@ -172,12 +170,12 @@ bool SqpSolver::iterate(double t0, const Eigen::VectorXd& xMeasured) {
     problem_.linearize(ws, references_[k], x_[k], u_[k], dt, lq_[k], values_[k]);
     lq_[k].b = x_[k] + dt * values_[k].xdot - x_[k + 1];
     const auto linearized = Clock::now();
-    sameMatrices_[k] = ws.usedPreparation && matricesProjected_[k];
+    sameMatrices_[k] = ws.keptMatrices && riccati_.matricesProjected(k);
     if (sameMatrices_[k]) {  // the matrices projected before
       riccati_.projectVectors(k, lq_[k]);
       projected_[k] = true;
     } else {
-      projected_[k] = matricesProjected_[k] = riccati_.project(k, lq_[k]);
+      projected_[k] = riccati_.project(k, lq_[k]);
     }
     linearizeCpuMs_[thread] += std::chrono::duration<double, std::milli>(linearized - begin).count();
     projectionCpuMs_[thread] += msSince(linearized);

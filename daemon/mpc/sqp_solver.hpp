@@ -132,8 +132,6 @@ class SqpSolver {
   Eigen::VectorXd zeroDx0_;  ///< the LQ step starts at the measured state: δx₀ = 0
   std::vector<double> nodeCost_, nodeViolation2_;
   std::vector<char> projected_;
-  /// Per node: its matrices, as they are in lq_, are projected (RiccatiSolver::projectMatrices).
-  std::vector<char> matricesProjected_;
   /// Per node, this iteration: its matrices are the ones projected before (and, where the sweep
   /// keeps them, swept).
   std::vector<char> sameMatrices_;
