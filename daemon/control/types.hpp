@@ -59,7 +59,8 @@ struct EstimatedState {
   bool contact[kNumContacts] = {};
   double contact_position[kNumContacts][3] = {};  ///< world
   /// Estimated external force on the robot (a push): horizontal, world, N, zero under
-  /// estimator.external_force_deadband (estimation/external_force_observer.hpp).
+  /// estimator.external_force_deadband times the robot's mass
+  /// (estimation/external_force_observer.hpp).
   double external_force[3] = {};
 };
 

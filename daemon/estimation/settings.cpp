@@ -15,16 +15,16 @@ model::SettingsProblem validateSettings(const EstimatorSettings& s, const model:
     double min;
     bool open;  ///< min itself is refused
   } numbers[] = {
-      {&S::gyroNoiseDensity, 0, true},        {&S::gyroBiasRandomWalk, 0, false},
-      {&S::gyroBiasInitial, 0, false},        {&S::orientationNoise, 0, true},
+      {&S::gyroNoiseDensity, 0, true},          {&S::gyroBiasRandomWalk, 0, false},
+      {&S::gyroBiasInitial, 0, false},          {&S::orientationNoise, 0, true},
       {&S::accelerometerNoiseDensity, 0, true}, {&S::kinematicsPositionNoise, 0, true},
-      {&S::kinematicsVelocityNoise, 0, true}, {&S::kinematicsVelocityGate, 0, false},
-      {&S::footHeightNoise, 0, true},         {&S::contactDriftNoise, 0, true},
-      {&S::swingNoiseScale, 1, false},        {&S::initialPositionNoise, 0, true},
-      {&S::initialVelocityNoise, 0, true},    {&S::contactForceThreshold, 0, false},
-      {&S::contactForceRelease, 0, false},    {&S::contactForceReleaseTime, 0, false},
-      {&S::contactForceBandwidth, 0, true},  {&S::contactForceRegularization, 0, true},
-      {&S::externalForceBandwidth, 0, true},  {&S::externalForceDeadband, 0, false},
+      {&S::kinematicsVelocityNoise, 0, true},   {&S::kinematicsVelocityGate, 0, false},
+      {&S::footHeightNoise, 0, true},           {&S::contactDriftNoise, 0, true},
+      {&S::swingNoiseScale, 1, false},          {&S::initialPositionNoise, 0, true},
+      {&S::initialVelocityNoise, 0, true},      {&S::contactForceThreshold, 0, false},
+      {&S::contactForceRelease, 0, false},      {&S::contactForceReleaseTime, 0, false},
+      {&S::contactForceBandwidth, 0, true},     {&S::contactForceRegularization, 0, true},
+      {&S::externalForceBandwidth, 0, true},    {&S::externalForceDeadbandPerKg, 0, false},
   };
   for (const auto& n : numbers) {
     const double x = s.*n.field;

@@ -72,8 +72,9 @@ struct EstimatorSettings {
   /// m², λ of each foot's least squares of the contact forces (contact_force_observer.hpp).
   double contactForceRegularization;
   /// External force (external_force_observer.hpp, same kind of observer): horizontal forces
-  /// under this read as none (model errors), larger ones are reported less this.
-  double externalForceDeadband;   ///< N
+  /// under this times the robot's mass read as none (model errors, which scale with the
+  /// robot), larger ones are reported less that.
+  double externalForceDeadbandPerKg;  ///< N/kg
   double externalForceBandwidth;  ///< 1/s, its observer's gain (time constant 1/K)
 };
 

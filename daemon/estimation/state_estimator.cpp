@@ -271,7 +271,7 @@ EstimatorStatus StateEstimator::update(const EstimatorInput& in, EstimatorOutput
     out.slipping[c] = slipping[c];
     out.contactForce[c] = observer_.force(c);
   }
-  out.externalForce = external_.horizontal(s.externalForceDeadband);
+  out.externalForce = external_.horizontal(s.externalForceDeadbandPerKg * model_.totalMass());
   out.externalForceRaw = external_.raw();
   out.gyroBias = attitude_.gyroBias();
   out.covarianceDiagonal = filter_.covariance().diagonal();

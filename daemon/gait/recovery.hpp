@@ -46,9 +46,11 @@ struct RecoveryParameters {
   double settleSpeed = 0.1;  ///< m/s: the centre of mass slower than this ends the steps
   double minPeriod = 0.6;    ///< s: the shortest gait cycle of the recovery steps
   /// Walking on the paper's footholds, an estimated push (horizontal, past the estimator's
-  /// deadband) stronger than this hands the footholds to the capture point's, the push in the
-  /// MPC's dynamics, until it has stayed under half this for a gait cycle. 0: never.
-  double walkingPushForce = 20.0;  ///< N
+  /// deadband) stronger than this times the robot's mass hands the footholds to the capture
+  /// point's, the push in the MPC's dynamics, until it has stayed under half that for a gait
+  /// cycle. Per kilogram because what a push does to the gait is the acceleration it gives the
+  /// body. 0: never.
+  double walkingPushForcePerKg = 0.32;  ///< N/kg
 };
 
 /// Where the robot's centre of pressure must be to hold its capture point still, and how far that

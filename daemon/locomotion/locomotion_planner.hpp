@@ -15,7 +15,7 @@
 //   with the command (so steady speed and heading errors show as position errors and are
 //   corrected, not inherited) — restarted from the measured base while the commanded velocity
 //   is still slewing, and its position kept at the measured base while a push has the
-//   footholds on the capture point's (RecoveryParameters::walkingPushForce) — held within
+//   footholds on the capture point's (RecoveryParameters::walkingPushForcePerKg) — held within
 //   `maxPositionLead` of the measured base so a push is not followed by a sprint; then an arc
 //   over the horizon. Standing: over
 //   the feet, facing their heading plus the pose yaw. Height above the ground the feet stand
@@ -198,7 +198,7 @@ class LocomotionPlanner {
   bool recovering_ = false;
   bool recoveryActive_ = false;
   /// Walking: a push hands the footholds to the capture point (RecoveryParameters::
-  /// walkingPushForce) while pushStepping_; the push was last over half that force then.
+  /// walkingPushForcePerKg) while pushStepping_; the push was last over half that force then.
   bool pushStepping_ = false;
   double lastPushTime_ = 0.0;
   gait::Gait recoveryGait_;

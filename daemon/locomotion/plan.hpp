@@ -35,7 +35,7 @@ struct Plan {
   /// Standing, the planner steps to recover from a push (gait/recovery.hpp).
   bool recovering = false;
   /// Walking, a push has the footholds on the capture point's (gait::RecoveryParameters::
-  /// walkingPushForce).
+  /// walkingPushForcePerKg).
   bool pushStepping = false;
   /// Per contact point, the terrain height (world z) it stands on at t0, or, in a swing, the one
   /// it lands on: what the state estimator measures stance points against.

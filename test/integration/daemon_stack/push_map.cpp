@@ -178,11 +178,12 @@ int main(int argc, char** argv) {
   if (o.unpushed) {
     // The largest horizontal push the estimator reads walking with none (3 s to reach the
     // speed, 5 s watched): what gait.recovery_walking_force must stay above.
-    std::printf("speed m/s   raw N   past the deadband N\n");
+    std::printf("speed m/s   raw N   past the deadband N   push switch N\n");
     for (double v : o.speeds) {
       if (v == 0.0) continue;
       const ballast::test::UnpushedPeak p = ballast::test::unpushedPeak(o.profile, v, 3.0, 5.0);
-      std::printf("%8.2f  %6.1f  %6.1f%s\n", v, p.raw, p.reported, p.walked ? "" : "  (fell)");
+      std::printf("%8.2f  %6.1f  %20.1f  %14.1f%s\n", v, p.raw, p.reported, p.pushSwitch,
+                  p.walked ? "" : "  (fell)");
       std::fflush(stdout);
     }
     return 0;

@@ -86,8 +86,8 @@ TEST(Push, FortyNewtonsForOneSecondAtEveryPhaseOfTheGait) {
 /// later in the 0.8 s gait cycle than the one before (3.2 s after each push ends): no fall,
 /// still walking at the end. The push acts off the centre of mass and moves the arm, but what
 /// the robot sees of it is the same estimated external force as of a push on the torso: 40 N
-/// less the estimator's 10 N deadband passes the walking push switch
-/// (gait.recovery_walking_force), which hands the footholds to the capture point's.
+/// less the estimator's deadband (9.9 N) passes the walking push switch (19.8 N,
+/// gait.recovery_walking_force), which hands the footholds to the capture point's.
 TEST(Push, FortyNewtonsOnAHandSidewaysAtEightPhases) {
   DaemonStack robot(kDefaultProfile);
   double t0 = 0.0;
@@ -289,6 +289,36 @@ INSTANTIATE_TEST_SUITE_P(Push, WalkingBackwardPush,
                                                 static_cast<int>(std::lround(1000.0 * info.param)));
                          });
 
+/// The paper's push per kilogram on a lighter robot: mass-35 (the humanoid with every mass and
+/// effort limit scaled to 35 kg, point feet; test/integration/daemon/profiles/mass-35.yaml.in)
+/// walking at 0.5 m/s, 60 N × 35/62 = 33.9 N for 1 s sideways, starting while the far foot is in
+/// the air, a fresh robot: no fall, still walking 4 s after the push. The walking push switch
+/// and the estimator's deadband are per kilogram (gait.recovery_walking_force,
+/// estimator.external_force_deadband): as newtons set for the 62 kg humanoid (20 and 10 N) the
+/// switch stayed off through these pushes and the robot fell at all four such cells of the map
+/// (+y at 0.5 and 0.625 of the cycle, their mirror cells -y at 0 and 0.125).
+class LighterRobotSidewaysPush : public ::testing::TestWithParam<double> {};
+
+TEST_P(LighterRobotSidewaysPush, ThePapersPushPerKilogram) {
+  PushTrial trial;
+  trial.profile = std::string(TEST_PROFILE_DIR) + "/mass-35.yaml";
+  trial.speed = 0.5;
+  trial.force = 60.0 * 35.0 / 62.0;
+  trial.directionDeg = 90.0;
+  trial.phase = GetParam();
+  trial.after = 4.0;
+  const PushOutcome out = runPushTrial(trial);
+  std::printf("mass-35 walking 0.5 m/s, %.1f N along +y, phase %.3f: %s\n", trial.force,
+              trial.phase, out.message.c_str());
+  EXPECT_TRUE(out.survived) << out.message;
+}
+
+INSTANTIATE_TEST_SUITE_P(Push, LighterRobotSidewaysPush, ::testing::Values(0.5, 0.625),
+                         [](const ::testing::TestParamInfo<double>& info) {
+                           return "PlusYPhase" + std::to_string(static_cast<int>(
+                                                     std::lround(1000.0 * info.param)));
+                         });
+
 /// Walking with no push the estimated external force stays well under the walking push switch
 /// (gait.recovery_walking_force): the raw estimate (before the deadband), once the speed is
 /// reached. A stance leg turning under the base must not read as a push against the walk
@@ -300,7 +330,7 @@ TEST_P(UnpushedWalking, EstimatedPushStaysSmall) {
   const double speed = GetParam();
   const UnpushedPeak peak = unpushedPeak(kDefaultProfile, speed, 3.0, 4.0);
   ASSERT_TRUE(peak.walked) << "fell at " << speed << " m/s";
-  EXPECT_LT(peak.raw, 20.0) << "at " << speed << " m/s";
+  EXPECT_LT(peak.raw, peak.pushSwitch) << "at " << speed << " m/s";
 }
 
 INSTANTIATE_TEST_SUITE_P(Push, UnpushedWalking, ::testing::Values(1.0, 1.5),

@@ -45,6 +45,7 @@ struct UnpushedPeak {
   bool walked = false;  ///< no fall, no damp
   double raw = 0.0;     ///< N, horizontal, before the deadband (EstimatorOutput::externalForceRaw)
   double reported = 0.0;  ///< N, past the deadband (what the planner's push switch compares)
+  double pushSwitch = 0.0;  ///< N, the walking push switch (gait.recovery_walking_force × mass)
 };
 /// Stand up, walk at `speed` (m/s forward), ignore the first `settle` s, watch `seconds` more.
 UnpushedPeak unpushedPeak(const std::string& profile, double speed, double settle, double seconds);
