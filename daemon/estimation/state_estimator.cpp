@@ -184,6 +184,7 @@ EstimatorStatus StateEstimator::update(const EstimatorInput& in, EstimatorOutput
   // 3. Contact: the schedule, confirmed by the estimated normal force on the point's foot.
   observer_.update(data_, v_, in.q, in.tau, dt, s.contactForceBandwidth,
                    s.contactForceRegularization);
+  const double mass = model_.totalMass();  // kg
   {
     // The robot's linear momentum: (M v)[0:3] is it in base axes.
     Vector3d forces = Vector3d::Zero();
@@ -191,9 +192,8 @@ EstimatorStatus StateEstimator::update(const EstimatorInput& in, EstimatorOutput
     const Vector3d momentum = Rwb * (data_.M.topRows<3>() * v_);
     // The unsensed load of the feet in stance as of the last tick (this tick's decision reads
     // these forces).
-    external_.update(momentum, forces, model_.totalMass() * model_.gravity, dt,
-                     s.externalForceBandwidth, s.contactForceBandwidth,
-                     observer_.unsensedLoad(stance_));
+    external_.update(momentum, forces, mass * model_.gravity, dt, s.externalForceBandwidth,
+                     s.contactForceBandwidth, observer_.unsensedLoad(stance_));
   }
   // A landed foot that the plan keeps in stance is not dropped by a transient: after a step
   // down the landing bounces and the leg stretches, the estimated force flickers under the
@@ -271,7 +271,7 @@ EstimatorStatus StateEstimator::update(const EstimatorInput& in, EstimatorOutput
     out.slipping[c] = slipping[c];
     out.contactForce[c] = observer_.force(c);
   }
-  out.externalForce = external_.horizontal(s.externalForceDeadbandPerKg * model_.totalMass());
+  out.externalForce = external_.horizontal(s.externalForceDeadbandPerKg * mass);
   out.externalForceRaw = external_.raw();
   out.gyroBias = attitude_.gyroBias();
   out.covarianceDiagonal = filter_.covariance().diagonal();

@@ -51,6 +51,9 @@ struct RecoveryParameters {
   /// cycle. Per kilogram because what a push does to the gait is the acceleration it gives the
   /// body. 0: never.
   double walkingPushForcePerKg = 0.32;  ///< N/kg
+
+  /// N: the walking push switch on a robot of this mass (kg).
+  double walkingPushForce(double mass) const { return walkingPushForcePerKg * mass; }
 };
 
 /// Where the robot's centre of pressure must be to hold its capture point still, and how far that

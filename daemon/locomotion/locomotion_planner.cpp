@@ -197,7 +197,7 @@ void LocomotionPlanner::updatePushSteps(double t, const gait::GaitState& state) 
   // phase. The capture point's steps catch it, but they walk worse undisturbed (README, Pushes),
   // so they take over only while a push lasts. Handing back waits for a double support: a swing
   // the capture point re-aimed on its way has no cubic of the paper's from its lift-off.
-  const double limit = settings_.recovery.walkingPushForcePerKg * model_.totalMass();
+  const double limit = settings_.recovery.walkingPushForce(state.mass);
   const double push = state.externalForce.head<2>().norm();
   if (limit <= 0.0) {
     pushStepping_ = false;

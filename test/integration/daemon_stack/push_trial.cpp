@@ -170,8 +170,7 @@ UnpushedPeak unpushedPeak(const std::string& profile, double speed, double settl
   if (!robot.waitForMode(control::Mode::kStand, 5.0))
     throw std::runtime_error("the robot did not stand up");
   UnpushedPeak out;
-  out.pushSwitch =
-      robot.settings().locomotion.recovery.walkingPushForcePerKg * robot.model().totalMass();
+  out.pushSwitch = robot.settings().locomotion.recovery.walkingPushForce(robot.model().totalMass());
   if (!robot.run(0.5) || robot.walk(speed) != control::Refusal::kNone) return out;
   if (!robot.run(settle)) return out;
   const double end = robot.t() + seconds;

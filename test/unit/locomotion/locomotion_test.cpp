@@ -294,7 +294,7 @@ TEST_F(Locomotion, APushWalkingHandsTheFootholdsToTheCapturePointUntilItHasPasse
   // footholds to the capture point's; once it has been under half that force for a gait cycle
   // they go back, at a double support. A push under it changes nothing.
   ASSERT_EQ(settings.swing.rule, gait::FootholdRule::kPaper);
-  const double limit = settings.recovery.walkingPushForcePerKg * m.totalMass();  // N
+  const double limit = settings.recovery.walkingPushForce(m.totalMass());  // N
   ASSERT_GT(limit, 0.0);
   Walk walk(*this, 0.5);
   const auto rule = [&] { return walk.plan.swings.parameters().rule; };
@@ -326,7 +326,7 @@ TEST_F(Locomotion, APushWalkingTakesTheBaseReferenceWhereThePushTookTheBody) {
   // reference starts where the body is: the steps stop it, the plan does not pull it back to the
   // path it was pushed off. Off its path without a push, the plan goes back by
   // planner.max_position_lead.
-  const double limit = settings.recovery.walkingPushForcePerKg * m.totalMass();  // N
+  const double limit = settings.recovery.walkingPushForce(m.totalMass());  // N
   ASSERT_GT(limit, 0.0);
   const double lead = settings.maxPositionLead;
   ASSERT_GT(lead, 0.05);
