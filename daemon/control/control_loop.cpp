@@ -1,5 +1,6 @@
 #include "control/control_loop.hpp"
 
+#include <alloca.h>
 #include <pthread.h>
 #include <sys/eventfd.h>
 #include <time.h>
@@ -21,6 +22,13 @@ std::uint64_t monotonicNs() {
   timespec ts;
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return static_cast<std::uint64_t>(ts.tv_sec) * 1000000000ull + ts.tv_nsec;
+}
+
+__attribute__((noinline)) void touchStack(std::size_t bytes) {
+  // Not inlined: the region is this call's frame, below the caller's, where its callees go.
+  volatile unsigned char* region = static_cast<volatile unsigned char*>(alloca(bytes));
+  const std::size_t page = static_cast<std::size_t>(sysconf(_SC_PAGESIZE));
+  for (std::size_t i = 0; i < bytes; i += page) region[i] = 0;
 }
 
 namespace {
@@ -97,6 +105,8 @@ ControlLoop::~ControlLoop() {
 }
 
 void ControlLoop::attachPlanner(Planner* planner) {
+  if (!options_.lockstep)
+    planner_.injectStall(settings_->planner_stall_at, settings_->planner_stall);
   planner_.start(planner, settings_->planner_rate, options_.lockstep, settings_->planner_latency,
                  options_.lockstep ? 0 : options_.planner_priority);
 }
@@ -149,6 +159,7 @@ void ControlLoop::backendStatus(backend::Status status, const char* call) {
 
 void ControlLoop::run(const std::atomic<bool>& stop) {
   pthread_setname_np(pthread_self(), "ballast-loop");
+  if (!options_.lockstep) touchStack();
   while (!stop.load(std::memory_order_relaxed)) {
     // Held: wait at run_until_ (the last tick's time within half a period of it) unless a
     // command waits; it gets one tick, at the same controller time whenever it arrives.
@@ -376,6 +387,7 @@ void ControlLoop::planPost() {
       solve_time_ = solve_time_ > 0.0 ? 0.8 * solve_time_ + 0.2 * p->solve_ms * 1e-3
                                       : p->solve_ms * 1e-3;
       planner_streak_ = 0;
+      plan_age_said_ = false;
     }
   }
   // The first solves after planning (re)starts are cold, without a warm start: in real time on a
@@ -386,30 +398,42 @@ void ControlLoop::planPost() {
   const bool cold = planning_ && warm_plans_ < 2;
   const double age = cold ? t_ - restart_t_ : t_ - plan_.t;
   const double limit = cold ? std::max(kColdStartAge, settings_->max_plan_age) : settings_->max_plan_age;
-  if ((have_plan_ || cold) && age > limit) {
-    // Did it not answer because its solve computes that long, or because its thread does not
-    // run (blocked, or not scheduled)? Real time only: in lockstep the loop waits for it.
-    char silent[kMessageLength] = "the planner did not answer";
-    if (!options_.lockstep) {
-      const PlannerSlot::Progress p = planner_.progress();
-      if (p.solving)
-        std::snprintf(silent, sizeof(silent),
-                      "the planner did not answer: in a solve for %.1f ms, %.1f ms of it on a CPU",
-                      p.wall * 1e3, p.cpu * 1e3);
-      else
-        std::snprintf(silent, sizeof(silent), "the planner did not answer: not in a solve");
-    }
-    const char* reason = planner_streak_ > 0 ? planner_message_ : silent;
-    if (cold)
-      std::snprintf(message_, sizeof(message_),
-                    "no valid plan %.3f s after planning started (%.3f s allowed while it starts): "
-                    "%.110s",
-                    age, limit, reason);
+  // The loop tracks the plan in force while no newer one comes (it covers planner.horizon):
+  // said once at half the limit, so that a planner that comes late shows before it damps.
+  const bool fault = (have_plan_ || cold) && age > limit;
+  const bool late = !fault && have_plan_ && !cold && !plan_age_said_ && age > 0.5 * limit;
+  if (!fault && !late) return;
+  // Did it not answer because its solve computes that long, or because its thread does not
+  // run (blocked, or not scheduled)? Real time only: in lockstep the loop waits for it.
+  char silent[kMessageLength] = "the planner did not answer";
+  if (!options_.lockstep) {
+    const PlannerSlot::Progress p = planner_.progress();
+    if (p.solving)
+      std::snprintf(silent, sizeof(silent),
+                    "the planner did not answer: in a solve for %.1f ms, %.1f ms of it on a CPU",
+                    p.wall * 1e3, p.cpu * 1e3);
     else
-      std::snprintf(message_, sizeof(message_), "no valid plan for %.3f s (%s %.3f s): %.120s",
-                    age, settingName(*settings_, &settings_->max_plan_age, "limit"), limit, reason);
-    raise(FaultKind::kPlanner, message_);
+      std::snprintf(silent, sizeof(silent), "the planner did not answer: not in a solve");
   }
+  const char* reason = planner_streak_ > 0 ? planner_message_ : silent;
+  const char* key = settingName(*settings_, &settings_->max_plan_age, "limit");
+  if (late) {
+    plan_age_said_ = true;
+    std::snprintf(message_, sizeof(message_),
+                  "planner: the plan in force is %.3f s old (%s %.3f s): %.120s; tracking it", age,
+                  key, limit, reason);
+    event(true, message_);
+    return;
+  }
+  if (cold)
+    std::snprintf(message_, sizeof(message_),
+                  "no valid plan %.3f s after planning started (%.3f s allowed while it starts): "
+                  "%.110s",
+                  age, limit, reason);
+  else
+    std::snprintf(message_, sizeof(message_), "no valid plan for %.3f s (%s %.3f s): %.120s", age,
+                  key, limit, reason);
+  raise(FaultKind::kPlanner, message_);
 }
 
 void ControlLoop::mapAgreement() {

@@ -53,6 +53,12 @@ namespace ballast::control {
 /// CLOCK_MONOTONIC in ns: the loop's wall clock unless LoopOptions::clock says otherwise.
 std::uint64_t monotonicNs();
 
+/// Writes to `bytes` of the calling thread's stack below the caller's frame, one byte a page:
+/// a real-time thread started after ballastd locked its memory on fault has that much of its
+/// stack resident (and locked) before its first deadline, not a page fault at its first deep
+/// call. The control loop and the planner call it as they start, in real time.
+void touchStack(std::size_t bytes = 512 * 1024);
+
 struct LoopOptions {
   bool lockstep = false;
   /// Lockstep only: the loop ticks only up to the controller time a client asks for (command
@@ -182,6 +188,7 @@ class ControlLoop {
   std::uint64_t failed_sequence_ = 0;  // of the last answer without a valid plan
   std::uint64_t planner_failures_ = 0, position_fixes_ = 0;
   int planner_streak_ = 0;  // failed answers since the last valid plan
+  bool plan_age_said_ = false;  // the plan in force's age was said (half safety.max_plan_age)
   char planner_message_[kMessageLength] = {};
   std::uint64_t wbc_degraded_ = 0;
   double solve_time_ = 0.0;  // s, recent planner solve time (real time: the plans' lead)

@@ -8,6 +8,8 @@
 #include <chrono>
 #include <ctime>
 
+#include "control/control_loop.hpp"  // touchStack
+
 namespace ballast::control {
 
 PlannerSlot::~PlannerSlot() {
@@ -117,6 +119,7 @@ PlannerSlot::Progress PlannerSlot::progress() const {
 
 void PlannerSlot::run() {
   pthread_setname_np(pthread_self(), "ballast-planner");
+  if (!lockstep_) touchStack();
   if (priority_ > 0) {
     sched_param param{};
     param.sched_priority = priority_;
@@ -135,6 +138,10 @@ void PlannerSlot::run() {
     if (have_cpu_clock_.load(std::memory_order_relaxed))
       solve_began_cpu_ns_.store(clockNs(cpu_clock_), std::memory_order_relaxed);
     solve_began_ns_.store(clockNs(CLOCK_MONOTONIC), std::memory_order_release);
+    if (stall_ > 0.0 && in.t >= stall_at_) {
+      std::this_thread::sleep_for(std::chrono::duration<double>(stall_));
+      stall_ = 0.0;
+    }
     try {
       planner_->plan(in, out);
     } catch (const std::exception& e) {

@@ -85,6 +85,13 @@ class PlannerSlot {
   };
   Progress progress() const;
 
+  /// Testing, real time (before start): the thread sleeps `duration` s in its first solve of an
+  /// input from controller time `at` on, before the planner's own work (0: never).
+  void injectStall(double at, double duration) {
+    stall_at_ = at;
+    stall_ = duration;
+  }
+
  private:
   void run();
 
@@ -93,6 +100,7 @@ class PlannerSlot {
   bool lockstep_ = false;
   double latency_ = 0.0;
   int priority_ = 0;
+  double stall_at_ = 0.0, stall_ = 0.0;  // injectStall; stall_ 0 once injected
   std::uint64_t in_flight_ = 0;  // lockstep: the sequence whose answer is awaited (0: none)
   double use_at_ = 0.0;          // ... and the controller time it is taken at
   double next_due_ = 0.0;

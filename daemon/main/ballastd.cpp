@@ -83,6 +83,16 @@ bool hasCapability(int cap) {
 /// Real time: the daemon's memory stays in RAM (no page fault delays a tick), and malloc keeps
 /// what it has instead of returning it. Only where every future allocation can be locked too
 /// (CAP_IPC_LOCK, or no RLIMIT_MEMLOCK); otherwise a warning, as for SCHED_FIFO.
+///
+/// What is mapped now (the model, the controller's and the backend's buffers, the threads
+/// started so far) is made resident and locked; what is mapped later is locked as it is first
+/// touched (MCL_ONFAULT). Filled in when mapped, a thread's heap growth zeroes its new pages
+/// holding the process's address-space lock, yielding the CPU midway: a background thread that
+/// other programs starve (the mapping thread, nice 19) then holds up every thread that maps
+/// memory, as the planner's solves do when a walk brings contact modes they have not met, for
+/// as long as it waits to run (90 ms under a busy host: a plan too old, the robot damped).
+/// Touched on first use, a page costs its toucher a minor fault under no lock another thread
+/// holds; the threads started after this (the control loop's) touch their stacks at start.
 void lockMemory() {
   rlimit limit{};
   getrlimit(RLIMIT_MEMLOCK, &limit);
@@ -97,6 +107,11 @@ void lockMemory() {
     spdlog::warn("memory not locked: mlockall: {}", std::strerror(errno));
     return;
   }
+  if (mlockall(MCL_CURRENT | MCL_FUTURE | MCL_ONFAULT) != 0)  // before Linux 4.4: filled in
+    spdlog::warn(
+        "mlockall: MCL_ONFAULT refused ({}): a thread's heap growth fills its pages "
+        "holding the address-space lock the planner may wait for",
+        std::strerror(errno));
   mallopt(M_TRIM_THRESHOLD, -1);
   mallopt(M_MMAP_MAX, 0);
   spdlog::info("memory locked (mlockall)");

@@ -1,6 +1,9 @@
 # Helpers for the acceptance scripts: start ballastd in a scratch directory (lockstep, or real
 # time with BALLAST_ACCEPTANCE_REALTIME=1), drive it with ballast, wait on status fields (no
-# sleeps where a status poll works), fail loudly.
+# sleeps where a status poll works), fail loudly. Real time on a busy host:
+# BALLAST_ACCEPTANCE_LOAD=N keeps N processes computing at normal priority from before the daemon
+# starts to the end (more than the cores: other programs on the robot's computer); without a
+# real-time priority for the loop (refused) such a run is skipped (exit 77).
 # Lockstep is held (ballastd --lockstep --hold): controller time passes only when a helper here
 # runs it on (`ballast advance`), so a command lands at the controller time the script reaches,
 # whatever the machine's load, and a run is the same every time. Real time polls the wall clock.
@@ -15,6 +18,7 @@ SOCKET=$WORK/ballastd.sock
 LOG=$WORK/ballastd.log
 export BALLAST_SOCKET=$SOCKET BALLAST_LEASE_FILE=$WORK/lease
 DAEMON_PID=
+LOAD_PIDS=
 
 fail() {
   echo "FAIL: $*" >&2
@@ -26,6 +30,7 @@ fail() {
 
 cleanup() {
   [ -n "$DAEMON_PID" ] && kill -KILL "$DAEMON_PID" 2>/dev/null || true
+  for p in $LOAD_PIDS; do kill -KILL "$p" 2>/dev/null || true; done
   rm -rf "$WORK"
 }
 trap cleanup EXIT
@@ -44,6 +49,12 @@ advance_by() {
 
 # start_daemon [OPTIONS...]: ballastd on $PROFILE (or $DAEMON_PROFILE), waits for its socket
 start_daemon() {
+  i=0
+  while [ "$i" -lt "${BALLAST_ACCEPTANCE_LOAD:-0}" ] && [ -z "$LOCKSTEP" ]; do
+    sh -c 'while :; do :; done' &
+    LOAD_PIDS="$LOAD_PIDS $!"
+    i=$((i + 1))
+  done
   "$BALLASTD" --profile "${DAEMON_PROFILE:-$PROFILE}" $LOCKSTEP --socket "$SOCKET" "$@" 2>"$LOG" &
   DAEMON_PID=$!
   i=0
@@ -53,6 +64,10 @@ start_daemon() {
     kill -0 "$DAEMON_PID" 2>/dev/null || fail "ballastd exited at start"
     sleep 0.05
   done
+  if [ -n "$LOAD_PIDS" ] && ! grep -q 'control thread: SCHED_FIFO' "$LOG"; then
+    echo "SKIP: the host refused the loop a real-time priority; a busy host starves it" >&2
+    exit 77
+  fi
 }
 
 # wait_until DESCRIPTION SECONDS COMMAND...: runs COMMAND until it succeeds (polling status),

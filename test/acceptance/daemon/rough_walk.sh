@@ -56,5 +56,6 @@ awk -F '\t' -v x0="$x0" -v x1="$x1" -v vx="$VX" -v s="$SECONDS_WALKED" -v share=
     printf "walked %.2f m in %s s (command %s m/s): roll max %.3f rad, pitch max %.3f rad, height %.3f to %.3f m over %d samples\n", x1 - x0, s, vx, rmax, pmax, zmin, zmax, n
     exit !(n > 0 && x1 - x0 >= share * vx * s && rmax <= 0.25 && pmax <= 0.25 && zmin >= 0.8 && zmax <= 1.0)
   }' "$WORK/walk.tsv" || fail "off the bars (distance, roll, pitch or height)"
+held || echo "real time: $(timing_line)"
 stop_daemon
 echo "ok: walked on rough ground"

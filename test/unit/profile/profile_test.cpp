@@ -141,6 +141,29 @@ planner:
   EXPECT_TRUE(problems(off).empty()) << testing::PrintToString(problems(off));
 }
 
+TEST_F(ProfileTest, APlanAgeBeyondTheHorizonIsRefused) {
+  base();
+  // The loop tracks the plan in force up to safety.max_plan_age: a plan covers planner.horizon.
+  const std::string path = write("p.yaml", R"(extends: base
+planner:
+  horizon: 0.4
+safety:
+  max_plan_age: 0.5
+)");
+  const auto p = problems(path);
+  ASSERT_EQ(p.size(), 1u) << testing::PrintToString(p);
+  EXPECT_NE(p[0].find("safety.max_plan_age: must be shorter than planner.horizon"),
+            std::string::npos)
+      << p[0];
+  const std::string within = write("within.yaml", R"(extends: base
+planner:
+  horizon: 0.4
+safety:
+  max_plan_age: 0.3
+)");
+  EXPECT_TRUE(problems(within).empty()) << testing::PrintToString(problems(within));
+}
+
 TEST_F(ProfileTest, YamlSyntaxErrorNamesLineAndColumn) {
   const std::string path = write("p.yaml", "robot:\n  urdf: [a, b\ncontrol: {}\n");
   const auto p = problems(path);
