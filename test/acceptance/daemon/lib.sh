@@ -34,6 +34,8 @@ cleanup() {
   rm -rf "$WORK"
 }
 trap cleanup EXIT
+# sh (dash) skips the EXIT trap when a signal ends it: the daemon and the load would outlive it.
+trap 'exit 1' INT TERM HUP
 
 ballast() { "$BALLAST_BIN" "$@"; }
 
@@ -49,12 +51,15 @@ advance_by() {
 
 # start_daemon [OPTIONS...]: ballastd on $PROFILE (or $DAEMON_PROFILE), waits for its socket
 start_daemon() {
-  i=0
-  while [ "$i" -lt "${BALLAST_ACCEPTANCE_LOAD:-0}" ] && [ -z "$LOCKSTEP" ]; do
-    sh -c 'while :; do :; done' &
-    LOAD_PIDS="$LOAD_PIDS $!"
-    i=$((i + 1))
-  done
+  # Once per script: a daemon started again runs under the same load.
+  if [ -z "$LOAD_PIDS" ] && [ -z "$LOCKSTEP" ]; then
+    i=0
+    while [ "$i" -lt "${BALLAST_ACCEPTANCE_LOAD:-0}" ]; do
+      sh -c 'while :; do :; done' &
+      LOAD_PIDS="$LOAD_PIDS $!"
+      i=$((i + 1))
+    done
+  fi
   "$BALLASTD" --profile "${DAEMON_PROFILE:-$PROFILE}" $LOCKSTEP --socket "$SOCKET" "$@" 2>"$LOG" &
   DAEMON_PID=$!
   i=0
