@@ -106,7 +106,7 @@ ControlLoop::~ControlLoop() {
 
 void ControlLoop::attachPlanner(Planner* planner) {
   if (!options_.lockstep)
-    planner_.injectStall(settings_->planner_stall_at, settings_->planner_stall);
+    planner_.injectStall(settings_->planner_injected_stall_at, settings_->planner_injected_stall);
   planner_.start(planner, settings_->planner_rate, options_.lockstep, settings_->planner_latency,
                  options_.lockstep ? 0 : options_.planner_priority);
 }

@@ -75,9 +75,10 @@ struct ControlSettings {
   // planner, telemetry
   double planner_rate;     ///< Hz
   double planner_latency;  ///< s: lockstep takes a plan this long after its input
-  /// Testing, real time: the planner's thread sleeps planner_stall s in its first solve from
-  /// controller time planner_stall_at on (0 s: never), as a planner a busy host does not run.
-  double planner_stall = 0.0, planner_stall_at = 0.0;
+  /// Testing, real time: the planner's thread sleeps planner_injected_stall s in its first solve
+  /// from controller time planner_injected_stall_at on (0 s: never), as a planner a busy host does
+  /// not run.
+  double planner_injected_stall = 0.0, planner_injected_stall_at = 0.0;
   locomotion::LocomotionSettings locomotion;  ///< the planner thread copies it (MpcPlanner)
   int telemetry_decimation;
 };

@@ -121,8 +121,8 @@ const Schema<Settings> kTable({
   choice("planner.model", "kinodynamic", "kinodynamic|single_rigid_body", "what the MPC predicts with: centroidal dynamics with full kinematics (the paper's), or the robot as one rigid body at the nominal posture, a convex MPC (the paper's cI; daemon/mpc/single_rigid_body_problem.hpp)").into<&S::control, &C::locomotion, &L::model>(),
   number("planner.rate", "100", 10, 1000, "Hz", "planner rate, controller time").needsRestart().into<&S::control, &C::planner_rate>(),
   number("planner.latency", "0.005", 0, 0.1, "s", "lockstep: a plan is used this long (controller time) after the state it starts from, as a real-time solve's delay (at most 1 / planner.rate); real time uses each plan when it arrives").needsRestart().into<&S::control, &C::planner_latency>(),
-  number("planner.injected_stall", "0", 0, 5, "s", "testing, real time: the planner's thread sleeps this long in its first solve from planner.injected_stall_at on, as a planner that a busy host does not run (the loop tracks the plan in force until safety.max_plan_age); 0: never").needsRestart().into<&S::control, &C::planner_stall>(),
-  number("planner.injected_stall_at", "0", 0, 1e6, "s", "testing: the controller time from which planner.injected_stall is injected").needsRestart().into<&S::control, &C::planner_stall_at>(),
+  number("planner.injected_stall", "0", 0, 5, "s", "testing, real time: the planner's thread sleeps this long in its first solve from planner.injected_stall_at on, as a planner that a busy host does not run (the loop tracks the plan in force until safety.max_plan_age); 0: never").needsRestart().into<&S::control, &C::planner_injected_stall>(),
+  number("planner.injected_stall_at", "0", 0, 1e6, "s", "testing: the controller time from which planner.injected_stall is injected").needsRestart().into<&S::control, &C::planner_injected_stall_at>(),
   R{"planner.latency", [](const S& s) -> std::string {
       return s.control.planner_latency > 1.0 / s.control.planner_rate + 1e-9
                  ? "must be at most one planner period (1 / planner.rate)"
