@@ -132,8 +132,8 @@ within() { awk -v a="$1" -v b="$2" -v f="$3" 'BEGIN { d = a - b; if (d < 0) d = 
 
 # never_damped: fails when the robot is damped or has fallen (the faults named)
 never_damped() {
-  [ "$(field mode)" != damp ] || fail "damped at t=$(field t): $(field faults)"
-  [ "$(field fallen)" = false ] || fail "fell at t=$(field t)"
+  [ "$(field mode)" != damp ] || fail "damped at t=$(field t), base at x=$(field base.position.0): $(field faults)"
+  [ "$(field fallen)" = false ] || fail "fell at t=$(field t), base at x=$(field base.position.0)"
 }
 
 # for_seconds S: S s of controller time (wall time in real time), never_damped at every poll
