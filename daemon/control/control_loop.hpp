@@ -56,7 +56,8 @@ std::uint64_t monotonicNs();
 /// Writes to `bytes` of the calling thread's stack below the caller's frame, one byte a page:
 /// a real-time thread started after ballastd locked its memory on fault has that much of its
 /// stack resident (and locked) before its first deadline, not a page fault at its first deep
-/// call. The control loop and the planner call it as they start, in real time.
+/// call. The control loop calls it as it starts, in real time; the planner's thread, started
+/// with the daemon before the memory is locked, has its whole stack made resident then.
 void touchStack(std::size_t bytes = 512 * 1024);
 
 struct LoopOptions {

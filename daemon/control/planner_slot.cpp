@@ -8,8 +8,6 @@
 #include <chrono>
 #include <ctime>
 
-#include "control/control_loop.hpp"  // touchStack
-
 namespace ballast::control {
 
 PlannerSlot::~PlannerSlot() {
@@ -119,7 +117,6 @@ PlannerSlot::Progress PlannerSlot::progress() const {
 
 void PlannerSlot::run() {
   pthread_setname_np(pthread_self(), "ballast-planner");
-  if (!lockstep_) touchStack();
   if (priority_ > 0) {
     sched_param param{};
     param.sched_priority = priority_;
