@@ -37,10 +37,11 @@ wait_until "the loop to take the walk command" 10 mode_is walk
 for_seconds "$SECONDS_WALKED"
 ballast record stop >/dev/null || fail "record stop"
 x1=$(field truth.base.position.0)
+# The mode first: a map save can take seconds under load, past the walk command's end.
+[ "$(field mode)" = walk ] || fail "stopped walking before the command's end"
 [ -z "${ROUGH_SAVE:-}" ] || ballast map save "$ROUGH_SAVE" >/dev/null || fail "map save"
 [ -z "${ROUGH_SAVE:-}" ] || cp "$WORK/rough.bt" "${ROUGH_SAVE%.bt}-truth.bt"
 [ -z "${ROUGH_SAVE:-}" ] || cp "$WORK/walk.tsv" "${ROUGH_SAVE%.bt}.tsv"
-[ "$(field mode)" = walk ] || fail "stopped walking before the command's end"
 motion_report "$WORK/walk.tsv"
 awk -F '\t' -v x0="$x0" -v x1="$x1" -v vx="$VX" -v s="$SECONDS_WALKED" -v share="${ROUGH_DISTANCE:-0.8}" "$RECORDING"'
   function abs(a) { return a < 0 ? -a : a }
