@@ -17,7 +17,7 @@ namespace {
 /// One line of the trace: the true base, the estimated contacts and push, where the feet are
 /// (the middle of each foot's contact points from the true base and the measured joints), and
 /// in the plan in force each foot's next foothold (x, y, world) and its touch-down time, "-"
-/// for a foot with no swing ahead in the plan.
+/// for a foot with no swing ahead in the plan, and the planned base roll and y now and 0.2 s on.
 void traceLine(std::FILE* out, const DaemonStack& robot, const control::LoopStatus& s,
                bool pushing) {
   const control::BaseState& b = s.truth;
@@ -57,6 +57,16 @@ void traceLine(std::FILE* out, const DaemonStack& robot, const control::LoopStat
                    next->foothold.y(), next->touchDown);
     else
       std::fprintf(out, "  %s -", foot == 0 ? "L" : "R");
+  }
+  // The plan's base roll and lateral position now and 0.2 s on (x_k = [h, p, zyx, q_j]).
+  if (planned.valid && planned.plan.nodes > 0) {
+    const locomotion::Plan& p = planned.plan;
+    auto node = [&](double t) {
+      return std::clamp(static_cast<int>(std::lround((t - p.t0) / p.dt)), 0, p.nodes);
+    };
+    const int k0 = node(s.t), k1 = node(s.t + 0.2);
+    std::fprintf(out, "  plan roll %6.3f -> %6.3f  y %6.3f -> %6.3f", p.x[k0][11], p.x[k1][11],
+                 p.x[k0][7], p.x[k1][7]);
   }
   std::fprintf(out, "\n");
   // Joints within 0.03 rad of a limit.

@@ -141,6 +141,36 @@ TEST(StepAdjustment, APushMovesTheFootholdWhereItCarriesThePointNotByItsOffsetOn
   EXPECT_TRUE(step.limited);
 }
 
+TEST(StepAdjustment, AStepLandsWhereTheNextOneCanReachItsCapturePoint) {
+  // Steps at most 0.18 m apart sideways. The capture point 0.03 m to the right of the orbit:
+  // the left step's own target is (0.2, 0.1 − 2·0.03) = (0.2, 0.04), within reach; from there
+  // the right step's would be (0.4, −0.16), 0.2 m out, held to −0.14. The next step's
+  // ξ_td − p_stance changes by −(e − α) = −2 per metre the stance foot moves, so the left foot
+  // lands 0.02/2 = 0.01 m further right and the right step reaches its target, (0.4, −0.15).
+  CaptureStepInput in = onTheOrbit();
+  in.limits.maxWidth = 0.18;
+  in.capturePoint.y() -= 0.03;
+  Step steps[2];
+  steps[0].left = true;
+  steps[0].touchDown = 0.4;
+  steps[1].left = false;
+  steps[1].liftOff = 0.4;
+  steps[1].touchDown = 0.8;
+  captureFootholds(in, steps, 2);
+  expectNear(steps[0].foothold, 0.2, 0.03);
+  EXPECT_FALSE(steps[0].limited);
+  expectNear(steps[1].foothold, 0.4, -0.15);
+  EXPECT_FALSE(steps[1].limited);
+  // 0.05 m to the right: the left step's target (0.2, 0.0) is held to 0.12 from the right foot,
+  // (0.2, 0.02), and it cannot move further right for the next one, which is held in turn.
+  in.capturePoint.y() -= 0.02;
+  captureFootholds(in, steps, 2);
+  expectNear(steps[0].foothold, 0.2, 0.02);
+  EXPECT_TRUE(steps[0].limited);
+  expectNear(steps[1].foothold, 0.4, 0.02 - 0.18);
+  EXPECT_TRUE(steps[1].limited);
+}
+
 TEST(StepAdjustment, AFixedStepKeepsItsFootholdAndTheNextStepsFromIt) {
   CaptureStepInput in = onTheOrbit();
   Step steps[2];
