@@ -18,7 +18,7 @@ namespace {
 
 /// ξ carried from `xi` at `t` to `step`'s touch-down, the centre of pressure moving from `from`
 /// onto `stance` until the lift-off. `stanceGain`, when given, is set to e − α: moving the stance
-/// foot by δ moves ξ_td − stance by −(e − α) δ.
+/// foot by δ moves ξ_td − stance by −(e − α) δ (e − α ≥ 1).
 Eigen::Vector2d capturePointAtTouchDown(const CaptureStepInput& in, const Step& step,
                                         const Eigen::Vector2d& xi, const Eigen::Vector2d& from,
                                         const Eigen::Vector2d& stance, double t,
@@ -64,15 +64,14 @@ void captureFootholds(const CaptureStepInput& in, Step* steps, int n) {
       const Eigen::Vector2d wanted = target(step, xi);
       step.foothold = limitStep(wanted, stance, yawAt(step), step.left, in.limits);
       step.limited = (step.foothold - wanted).squaredNorm() > 1e-12;
-      // Two steps ahead: where the next step (the other foot, from this one) would be held to
-      // its limits, this foot lands the part of the way there that makes the next step
-      // reachable, within this step's own limits.
-      Step* next = k + 1 < n ? &steps[k + 1] : nullptr;
+      // One step ahead: where the next step (the other foot, from this foothold) would be held
+      // to its limits by an excess Δ, this foothold moves by Δ/(e − α), which brings the next
+      // step's target onto its limits, as far as this step's own limits allow.
+      const Step* next = k + 1 < n ? &steps[k + 1] : nullptr;
       if (next && !next->fixed && next->left != step.left) {
         double gain = 0.0;
-        const Eigen::Vector2d xiNext =
-            capturePointAtTouchDown(in, *next, xi, step.left ? right : left, step.foothold,
-                                    std::max(t, step.touchDown), &gain);
+        const Eigen::Vector2d xiNext = capturePointAtTouchDown(in, *next, xi, stance, step.foothold,
+                                                               std::max(t, step.touchDown), &gain);
         const Eigen::Vector2d nextWanted = target(*next, xiNext);
         const Eigen::Vector2d excess =
             nextWanted - limitStep(nextWanted, step.foothold, yawAt(*next), next->left, in.limits);

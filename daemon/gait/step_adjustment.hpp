@@ -11,13 +11,13 @@
 //             capture-point offset for the commanded velocity)
 //   limited to the reach of the leg from the stance foot (StepLimits, in the heading frame at the
 //   touch-down: forward/backward, and sideways between the feet distance and the widest step);
-//   two steps ahead: if the next step's foothold, planned from this one, would be held to its
+//   one step ahead: if the next step's foothold, planned from this one, would be held to its
 //   limits by an excess Δ, this foothold moves by Δ/(e − α) (the next step's ξ_td − p_stance
 //   changes by −(e − α) per metre the stance foot moves; e, α of the next step's interval),
-//   within this step's own limits. A push towards the stance foot's side while the other foot
-//   swings (the swinging foot must land beside the stance foot, then the stance foot step out
-//   across the push) lands the swinging foot nearer the stance foot, so the step out is within
-//   reach;
+//   within this step's own limits (`limited` says whether those held the target itself). A
+//   push towards the stance foot's side while the other foot swings (the swinging foot must
+//   land beside the stance foot, then the stance foot step out in the push's direction) lands
+//   the swinging foot nearer the stance foot, so the step out is within reach;
 //   then ξ goes on from ξ_td about the new foot.
 // A step already fixed (a swing past its replanning point) keeps its foothold and the sequence
 // goes on from it. With nothing disturbing the robot (ξ on its periodic orbit), the footholds are

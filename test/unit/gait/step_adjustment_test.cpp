@@ -169,6 +169,17 @@ TEST(StepAdjustment, AStepLandsWhereTheNextOneCanReachItsCapturePoint) {
   EXPECT_TRUE(steps[0].limited);
   expectNear(steps[1].foothold, 0.4, 0.02 - 0.18);
   EXPECT_TRUE(steps[1].limited);
+  // With a double support before the next lift-off (0.05 s: α ≠ 0), the right step's target,
+  // 0.188 m out from (0.2, 0.04), is brought exactly onto its limit by the left foot's move.
+  in.capturePoint.y() += 0.02;
+  steps[0] = Step{};
+  steps[0].left = true;
+  steps[0].touchDown = 0.4;
+  steps[1].liftOff = 0.45;
+  captureFootholds(in, steps, 2);
+  EXPECT_LT(steps[0].foothold.y(), 0.04 - 1e-3);
+  EXPECT_FALSE(steps[1].limited);
+  EXPECT_NEAR(steps[0].foothold.y() - steps[1].foothold.y(), 0.18, 1e-9);
 }
 
 TEST(StepAdjustment, AFixedStepKeepsItsFootholdAndTheNextStepsFromIt) {
