@@ -6,6 +6,7 @@
 #include <deque>
 #include <stdexcept>
 
+#include "model/centroidal_dynamics.hpp"
 #include "model/data.hpp"
 #include "model/forward_kinematics.hpp"
 #include "model/frames.hpp"
@@ -58,15 +59,17 @@ void traceLine(std::FILE* out, const DaemonStack& robot, const control::LoopStat
     else
       std::fprintf(out, "  %s -", foot == 0 ? "L" : "R");
   }
-  // The plan's base roll and lateral position now and 0.2 s on (x_k = [h, p, zyx, q_j]).
+  // The plan's base roll and lateral position at the nodes nearest now and 0.2 s on.
   if (planned.valid && planned.plan.nodes > 0) {
+    using L = model::CentroidalLayout;
+    constexpr int kRoll = L::kBaseZyx + 2, kY = L::kBasePosition + 1;  // zyx = [yaw, pitch, roll]
     const locomotion::Plan& p = planned.plan;
     auto node = [&](double t) {
       return std::clamp(static_cast<int>(std::lround((t - p.t0) / p.dt)), 0, p.nodes);
     };
     const int k0 = node(s.t), k1 = node(s.t + 0.2);
-    std::fprintf(out, "  plan roll %6.3f -> %6.3f  y %6.3f -> %6.3f", p.x[k0][11], p.x[k1][11],
-                 p.x[k0][7], p.x[k1][7]);
+    std::fprintf(out, "  plan roll %6.3f -> %6.3f  y %6.3f -> %6.3f", p.x[k0][kRoll],
+                 p.x[k1][kRoll], p.x[k0][kY], p.x[k1][kY]);
   }
   std::fprintf(out, "\n");
   // Joints within 0.03 rad of a limit.
