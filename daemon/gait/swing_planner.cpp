@@ -167,36 +167,42 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
         s.moveFrom = kept->moveFrom;
         s.movePosition = kept->movePosition;
         s.moveVelocity = kept->moveVelocity;
-      } else if (capture) {
-        // The foot's foothold from step adjustment; this point's place on the foot.
-        const Step* step = nullptr;
-        for (int k = 0; k < numSteps_; ++k)
-          if (steps_[k].left == isLeft(c) &&
-              (!step || std::abs(steps_[k].touchDown - s.touchDown) <
-                            std::abs(step->touchDown - s.touchDown)))
-            step = &steps_[k];
-        s.foothold = step ? step->foothold : Eigen::Vector2d(s.liftOffPosition.head<2>());
-        Eigen::Vector3d p;
-        p << s.foothold + placeOnFoot(c, state.base.yaw + command.yawRate * (s.touchDown - state.t)),
-            0.0;
-        p.z() = terrain.height(p.x(), p.y());
-        s.touchDownPosition = p;
       } else {
-        const PlanarPose base = state.base.predicted(command, s.touchDown - state.t);
-        const double stance = schedule.gaitAt(s.touchDown).stanceDuration();
-        // The centre of mass's velocity, not the base's: what the step has to catch is the
-        // centre of mass, and with heavy limbs the pelvis swings against it within a step (by
-        // most of its velocity in a stop from 1 m/s).
-        Eigen::Vector3d p = raibertFoothold(base, nominalOffsets_[c], state.comVelocity, vDesired,
-                                            command.yawRate, stance, params_.foothold, terrain);
-        p += footOffset(c, s.touchDown, base, state, vDesired, command.yawRate, stance, terrain);
-        p = keepFeetApart(c, p, base.yaw, state);
+        const Eigen::Vector2d onFoot =
+            placeOnFoot(c, state.base.yaw + command.yawRate * (s.touchDown - state.t));
+        const Eigen::Vector2d& axis = params_.captureAxis;
+        Eigen::Vector3d p = Eigen::Vector3d::Zero();
+        if (!capture || axis.squaredNorm() > 0.0) {
+          const PlanarPose base = state.base.predicted(command, s.touchDown - state.t);
+          const double stance = schedule.gaitAt(s.touchDown).stanceDuration();
+          // The centre of mass's velocity, not the base's: what the step has to catch is the
+          // centre of mass, and with heavy limbs the pelvis swings against it within a step (by
+          // most of its velocity in a stop from 1 m/s).
+          p = raibertFoothold(base, nominalOffsets_[c], state.comVelocity, vDesired,
+                              command.yawRate, stance, params_.foothold, terrain);
+          p += footOffset(c, s.touchDown, base, state, vDesired, command.yawRate, stance, terrain);
+          p = keepFeetApart(c, p, base.yaw, state);
+        }
+        if (capture) {
+          // The foot's foothold from step adjustment; this point's place on the foot.
+          const Step* step = nullptr;
+          for (int k = 0; k < numSteps_; ++k)
+            if (steps_[k].left == isLeft(c) &&
+                (!step || std::abs(steps_[k].touchDown - s.touchDown) <
+                              std::abs(step->touchDown - s.touchDown)))
+              step = &steps_[k];
+          const Eigen::Vector2d foothold =
+              step ? step->foothold : Eigen::Vector2d(s.liftOffPosition.head<2>());
+          Eigen::Vector2d captured = foothold + onFoot;
+          if (axis.squaredNorm() > 0.0)
+            captured = p.head<2>() + axis * axis.dot(captured - p.head<2>());
+          p.head<2>() = captured;
+        }
         p.z() = terrain.height(p.x(), p.y());
         s.touchDownPosition = p;
         // The foot's centre where this point lands: when the capture point's rule takes over
         // (the walking push switch) while this swing is held, its next step starts from here.
-        s.foothold =
-            p.head<2>() - placeOnFoot(c, state.base.yaw + command.yawRate * (s.touchDown - state.t));
+        s.foothold = p.head<2>() - onFoot;
       }
       // A swing re-aimed on its way moves on from where its reference is now (capture point
       // rule; the paper's swings keep their one cubic from lift-off).

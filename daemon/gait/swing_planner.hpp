@@ -49,6 +49,9 @@ struct SwingPlannerParameters {
   StepLimits limits;            ///< kCapturePoint (minWidth: minFeetDistance)
   double comHeight = 0.8;       ///< kCapturePoint: the pendulum's height, m (ω = sqrt(g/h)), set by the planner
   FootholdSearchParameters search;  ///< kPaper: footholds off unknown cells, edges and steep cells
+  /// kCapturePoint: nonzero (unit, world), the capture point's footholds along this axis only,
+  /// the paper's across it.
+  Eigen::Vector2d captureAxis = Eigen::Vector2d::Zero();
 };
 
 /// What the planner needs to know about the robot now.

@@ -203,7 +203,10 @@ void LocomotionPlanner::updatePushSteps(double t, const gait::GaitState& state) 
     pushStepping_ = false;
     return;
   }
-  if (push > limit) pushStepping_ = true;
+  if (push > limit) {
+    pushStepping_ = true;
+    pushDirection_ = state.externalForce.head<2>() / push;
+  }
   if (push > 0.5 * limit) lastPushTime_ = t;
   const bool doubleSupport = gait::numStance(schedule_.flagsAt(t)) == kNumContacts;
   if (pushStepping_ && doubleSupport && t > lastPushTime_ + schedule_.gaitAt(t).period)
@@ -302,6 +305,11 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
   gait::SwingPlannerParameters swing = settings_.swing;
   if ((recoveryActive_ && !operatorCommand.walk) || pushStepping_)
     swing.rule = gait::FootholdRule::kCapturePoint;
+  // Handed over from the paper's footholds, along a push along the walk only.
+  if (pushStepping_ && operatorCommand.walk && settings_.swing.rule == gait::FootholdRule::kPaper)
+    swing.captureAxis = gait::walkingCaptureAxis(
+        pushDirection_,
+        gait::fromHeading(Eigen::Vector2d(command.vx, command.vy), gaitState.base.yaw));
   swings_.setParameters(swing);
   swings_.update(schedule_, gaitState, planarCommand(command), horizon, terrain_);
 

@@ -201,6 +201,8 @@ class LocomotionPlanner {
   /// walkingPushForcePerKg) while pushStepping_; the push was last over half that force then.
   bool pushStepping_ = false;
   double lastPushTime_ = 0.0;
+  /// The direction of the push (world, unit) when it was last over the switch's force.
+  Eigen::Vector2d pushDirection_ = Eigen::Vector2d::UnitX();
   gait::Gait recoveryGait_;
   Eigen::Vector3d externalForce_ = Eigen::Vector3d::Zero();
 };

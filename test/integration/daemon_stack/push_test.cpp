@@ -33,19 +33,20 @@ void startWalking(DaemonStack& robot, double& t0) {
   ASSERT_TRUE(robot.run(4.0));
 }
 
-/// A fresh robot walking at 0.5 m/s on `profile`, 60 N for 1 s on the torso along directionDeg
-/// (heading frame) from `phase` (fraction of the gait cycle), watched 4 s after; prints the
-/// outcome.
-PushOutcome walkingSixtyNewtons(const std::string& profile, double directionDeg, double phase) {
+/// A fresh robot walking at `speed` (m/s) on `profile`, 60 N for 1 s on the torso along
+/// directionDeg (heading frame) from `phase` (fraction of the gait cycle), watched 4 s after;
+/// prints the outcome.
+PushOutcome walkingSixtyNewtons(const std::string& profile, double directionDeg, double phase,
+                                double speed = 0.5) {
   PushTrial trial;
   trial.profile = profile;
-  trial.speed = 0.5;
+  trial.speed = speed;
   trial.force = 60.0;
   trial.directionDeg = directionDeg;
   trial.phase = phase;
   trial.after = 4.0;
   const PushOutcome out = runPushTrial(trial);
-  std::printf("walking 0.5 m/s, 60 N at %.0f deg, phase %.3f: %s\n", directionDeg, phase,
+  std::printf("walking %.1f m/s, 60 N at %.0f deg, phase %.3f: %s\n", speed, directionDeg, phase,
               out.message.c_str());
   return out;
 }
@@ -266,6 +267,27 @@ INSTANTIATE_TEST_SUITE_P(
       return std::string(d == 0.0 ? "PlusX" : d == 180.0 ? "MinusX" : "PlusY") + "Phase" +
              std::to_string(static_cast<int>(std::lround(1000.0 * std::get<1>(info.param))));
     });
+
+/// Issue 13 at 1.0 m/s on the default profile: 60 N for 1 s on the torso along +x, starting at
+/// each eighth of the gait cycle (whose period is still 0.8 s: 0.4 m steps), a fresh robot: no
+/// fall, still walking 4 s after the push. All eight phases, not one of each mirror pair: the
+/// push takes the robot to 1.6 m/s, where the mirror cells fell apart (0.0 held, 0.5 fell).
+/// Under a push along the walk the capture point's footholds take over along the push only
+/// (gait::walkingCaptureAxis); on them both ways phases 0.5 and 0.75 fell, the sideways steps
+/// answering the sway of the fast gait wider each time.
+class FastWalkingPushAlongTheWalk : public ::testing::TestWithParam<double> {};
+
+TEST_P(FastWalkingPushAlongTheWalk, SixtyNewtonsForOneSecond) {
+  const PushOutcome out = walkingSixtyNewtons(kDefaultProfile, 0.0, GetParam(), 1.0);
+  EXPECT_TRUE(out.survived) << out.message;
+}
+
+INSTANTIATE_TEST_SUITE_P(Push, FastWalkingPushAlongTheWalk,
+                         ::testing::Values(0.0, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875),
+                         [](const ::testing::TestParamInfo<double>& info) {
+                           return "Phase" + std::to_string(
+                                                static_cast<int>(std::lround(1000.0 * info.param)));
+                         });
 
 /// Issue 13, walking along x with the push profile (profiles/sim-flat-push.yaml: capture-point
 /// footholds, step timing, the whole-body controller's joint limits, the MPC's pelvis roll

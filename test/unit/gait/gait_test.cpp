@@ -437,6 +437,38 @@ TEST_F(SwingPlannerTest, AHeldSwingHandedToTheCapturePointIsSteppedOnFromWhereIt
             capture.limits.maxForward + capture.limits.maxWidth);
 }
 
+TEST_F(SwingPlannerTest, OnAPushAxisTheCapturePointStepsAlongItAndThePapersAcross) {
+  // Walking at 0.5 m/s, pushed along the walk on a 50 kg robot (gait::walkingCaptureAxis): with
+  // the capture axis along the push (x) each touch-down is the capture point's along x and the
+  // paper's along y. The push is diagonal so that the two rules differ both ways.
+  const ContactSchedule schedule(walk(0.8, 0.2), 0.0);
+  GaitState s = state();
+  s.mass = 50.0;
+  s.com = Eigen::Vector3d(0.03, 0.0, 0.8);
+  s.baseVelocity = s.comVelocity = Eigen::Vector3d{0.7, 0.2, 0};
+  s.externalForce = Eigen::Vector3d(80.0, 60.0, 0.0);
+  const VelocityCommand cmd{0.5, 0, 0};
+  auto touchDowns = [&](FootholdRule rule, const Eigen::Vector2d& axis) {
+    SwingPlannerParameters p = defaults();
+    p.rule = rule;
+    p.comHeight = 0.8;
+    p.captureAxis = axis;
+    SwingPlanner planner(p, offsets);
+    planner.update(schedule, s, cmd, 1.0, FlatTerrain());
+    return std::array<Eigen::Vector3d, 2>{planner.swingAt(kLeftToe, 0.2)->touchDownPosition,
+                                          planner.swingAt(kRightToe, 0.6)->touchDownPosition};
+  };
+  const auto paper = touchDowns(FootholdRule::kPaper, Eigen::Vector2d::Zero());
+  const auto capture = touchDowns(FootholdRule::kCapturePoint, Eigen::Vector2d::Zero());
+  const auto alongX = touchDowns(FootholdRule::kCapturePoint, Eigen::Vector2d::UnitX());
+  for (int foot = 0; foot < 2; ++foot) {
+    ASSERT_GT(std::abs(paper[foot].x() - capture[foot].x()), 0.01) << foot;
+    ASSERT_GT(std::abs(paper[foot].y() - capture[foot].y()), 0.01) << foot;
+    EXPECT_NEAR(alongX[foot].x(), capture[foot].x(), 1e-9) << foot;
+    EXPECT_NEAR(alongX[foot].y(), paper[foot].y(), 1e-9) << foot;
+  }
+}
+
 /// Nothing observed anywhere: every placement the foothold search tries fails at its first
 /// known(), so the calls count the placements tried.
 class UnknownTerrain final : public TerrainQuery {

@@ -183,5 +183,18 @@ TEST(StandingRecovery, AStepBackTakesItsTimeFromTheHeel) {
               expected, kRecoveryTol);
 }
 
+TEST(WalkingPush, TheCapturePointTakesTheAxisOfAPushAlongTheWalkOnly) {
+  const Eigen::Vector2d walking(0.0, 1.0);  // walking along +y (world) at 1 m/s
+  // Along the walk, and within 45° of it: the push's own axis.
+  EXPECT_LT((walkingCaptureAxis({0.0, 60.0}, walking) - Eigen::Vector2d(0.0, 1.0)).norm(), 1e-12);
+  EXPECT_LT((walkingCaptureAxis({30.0, 40.0}, walking) - Eigen::Vector2d(0.6, 0.8)).norm(), 1e-12);
+  // 45° or more off it, across it, against it, standing, no push: both ways (zero).
+  EXPECT_TRUE(walkingCaptureAxis({40.0, 40.0}, walking).isZero());
+  EXPECT_TRUE(walkingCaptureAxis({60.0, 0.0}, walking).isZero());
+  EXPECT_TRUE(walkingCaptureAxis({0.0, -60.0}, walking).isZero());
+  EXPECT_TRUE(walkingCaptureAxis({0.0, 60.0}, Eigen::Vector2d::Zero()).isZero());
+  EXPECT_TRUE(walkingCaptureAxis(Eigen::Vector2d::Zero(), walking).isZero());
+}
+
 }  // namespace
 }  // namespace ballast::gait

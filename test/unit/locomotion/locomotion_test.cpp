@@ -333,11 +333,12 @@ TEST_F(Locomotion, APushWalkingTakesTheBaseReferenceWhereThePushTookTheBody) {
   const CentroidalLayout L{m.nj(), kNumContacts};
   const int y = L.kBasePosition + 1;
   // The plan's base y at its last node relative to its first, the whole robot moved `off`
-  // along +y after 1.5 s of walking, with a push along x (the footholds' switch) or none.
+  // along +y after 1.5 s of walking, with a push along -x (the footholds' switch; against the
+  // walk, the capture point's both ways: gait::walkingCaptureAxis) or none.
   const auto drift = [&](double push, double off) {
     Walk walk(*this, 0.5);
     walk.run(1.5);
-    walk.planner.setExternalForce(Eigen::Vector3d(push, 0.0, 0.0));
+    walk.planner.setExternalForce(Eigen::Vector3d(-push, 0.0, 0.0));
     walk.run(0.02);
     walk.q[1] += off;
     walk.run(0.01);
