@@ -170,9 +170,9 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
       } else {
         const Eigen::Vector2d onFoot =
             placeOnFoot(c, state.base.yaw + command.yawRate * (s.touchDown - state.t));
-        const Eigen::Vector2d& axis = params_.captureAxis;
+        const bool blend = capture && params_.paperAcross > 0.0;
         Eigen::Vector3d p = Eigen::Vector3d::Zero();
-        if (!capture || axis.squaredNorm() > 0.0) {
+        if (!capture || blend) {
           const PlanarPose base = state.base.predicted(command, s.touchDown - state.t);
           const double stance = schedule.gaitAt(s.touchDown).stanceDuration();
           // The centre of mass's velocity, not the base's: what the step has to catch is the
@@ -194,8 +194,11 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
           const Eigen::Vector2d foothold =
               step ? step->foothold : Eigen::Vector2d(s.liftOffPosition.head<2>());
           Eigen::Vector2d captured = foothold + onFoot;
-          if (axis.squaredNorm() > 0.0)
-            captured = p.head<2>() + axis * axis.dot(captured - p.head<2>());
+          if (blend) {
+            const Eigen::Vector2d& a = params_.captureAxis;
+            const Eigen::Vector2d d = p.head<2>() - captured;
+            captured += params_.paperAcross * (d - a * a.dot(d));
+          }
           p.head<2>() = captured;
         }
         p.z() = terrain.height(p.x(), p.y());

@@ -49,9 +49,10 @@ struct SwingPlannerParameters {
   StepLimits limits;            ///< kCapturePoint (minWidth: minFeetDistance)
   double comHeight = 0.8;       ///< kCapturePoint: the pendulum's height, m (ω = sqrt(g/h)), set by the planner
   FootholdSearchParameters search;  ///< kPaper: footholds off unknown cells, edges and steep cells
-  /// kCapturePoint: nonzero (unit, world), the capture point's footholds along this axis only,
-  /// the paper's across it.
-  Eigen::Vector2d captureAxis = Eigen::Vector2d::Zero();
+  /// kCapturePoint: across `captureAxis` (unit, world), the footholds are moved this fraction
+  /// (0 to 1) of the way from the capture point's to the paper's (gait::walkingPushAxis).
+  Eigen::Vector2d captureAxis = Eigen::Vector2d::UnitX();
+  double paperAcross = 0.0;
 };
 
 /// What the planner needs to know about the robot now.

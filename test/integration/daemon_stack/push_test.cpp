@@ -272,9 +272,9 @@ INSTANTIATE_TEST_SUITE_P(
 /// each eighth of the gait cycle (whose period is still 0.8 s: 0.4 m steps), a fresh robot: no
 /// fall, still walking 4 s after the push. All eight phases, not one of each mirror pair: the
 /// push takes the robot to 1.6 m/s, where the mirror cells fell apart (0.0 held, 0.5 fell).
-/// Under a push along the walk the capture point's footholds take over along the push only
-/// (gait::walkingCaptureAxis); on them both ways phases 0.5 and 0.75 fell, the sideways steps
-/// answering the sway of the fast gait wider each time.
+/// Across a push along the walk the paper's footholds keep the steps (gait::walkingPushAxis); on
+/// the capture point's both ways phases 0.5 and 0.75 fell, the sideways steps answering the sway
+/// of the fast gait wider each time.
 class FastWalkingPushAlongTheWalk : public ::testing::TestWithParam<double> {};
 
 TEST_P(FastWalkingPushAlongTheWalk, SixtyNewtonsForOneSecond) {

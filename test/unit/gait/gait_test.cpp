@@ -437,10 +437,11 @@ TEST_F(SwingPlannerTest, AHeldSwingHandedToTheCapturePointIsSteppedOnFromWhereIt
             capture.limits.maxForward + capture.limits.maxWidth);
 }
 
-TEST_F(SwingPlannerTest, OnAPushAxisTheCapturePointStepsAlongItAndThePapersAcross) {
-  // Walking at 0.5 m/s, pushed along the walk on a 50 kg robot (gait::walkingCaptureAxis): with
-  // the capture axis along the push (x) each touch-down is the capture point's along x and the
-  // paper's along y. The push is diagonal so that the two rules differ both ways.
+TEST_F(SwingPlannerTest, AcrossAPushAxisTheFootholdsMoveTowardsThePapers) {
+  // Walking at 0.5 m/s, pushed along the walk on a 50 kg robot (gait::walkingPushAxis): with
+  // the capture axis along x each touch-down is the capture point's along x, and along y the
+  // capture point's moved paperAcross of the way to the paper's. The push is diagonal so that
+  // the two rules differ both ways.
   const ContactSchedule schedule(walk(0.8, 0.2), 0.0);
   GaitState s = state();
   s.mass = 50.0;
@@ -448,24 +449,29 @@ TEST_F(SwingPlannerTest, OnAPushAxisTheCapturePointStepsAlongItAndThePapersAcros
   s.baseVelocity = s.comVelocity = Eigen::Vector3d{0.7, 0.2, 0};
   s.externalForce = Eigen::Vector3d(80.0, 60.0, 0.0);
   const VelocityCommand cmd{0.5, 0, 0};
-  auto touchDowns = [&](FootholdRule rule, const Eigen::Vector2d& axis) {
+  auto touchDowns = [&](FootholdRule rule, double paperAcross) {
     SwingPlannerParameters p = defaults();
     p.rule = rule;
     p.comHeight = 0.8;
-    p.captureAxis = axis;
+    p.captureAxis = Eigen::Vector2d::UnitX();
+    p.paperAcross = paperAcross;
     SwingPlanner planner(p, offsets);
     planner.update(schedule, s, cmd, 1.0, FlatTerrain());
     return std::array<Eigen::Vector3d, 2>{planner.swingAt(kLeftToe, 0.2)->touchDownPosition,
                                           planner.swingAt(kRightToe, 0.6)->touchDownPosition};
   };
-  const auto paper = touchDowns(FootholdRule::kPaper, Eigen::Vector2d::Zero());
-  const auto capture = touchDowns(FootholdRule::kCapturePoint, Eigen::Vector2d::Zero());
-  const auto alongX = touchDowns(FootholdRule::kCapturePoint, Eigen::Vector2d::UnitX());
-  for (int foot = 0; foot < 2; ++foot) {
-    ASSERT_GT(std::abs(paper[foot].x() - capture[foot].x()), 0.01) << foot;
-    ASSERT_GT(std::abs(paper[foot].y() - capture[foot].y()), 0.01) << foot;
-    EXPECT_NEAR(alongX[foot].x(), capture[foot].x(), 1e-9) << foot;
-    EXPECT_NEAR(alongX[foot].y(), paper[foot].y(), 1e-9) << foot;
+  const auto paper = touchDowns(FootholdRule::kPaper, 0.0);
+  const auto capture = touchDowns(FootholdRule::kCapturePoint, 0.0);
+  for (const double share : {1.0, 0.25}) {
+    const auto blended = touchDowns(FootholdRule::kCapturePoint, share);
+    for (int foot = 0; foot < 2; ++foot) {
+      ASSERT_GT(std::abs(paper[foot].x() - capture[foot].x()), 0.01) << foot;
+      ASSERT_GT(std::abs(paper[foot].y() - capture[foot].y()), 0.01) << foot;
+      EXPECT_NEAR(blended[foot].x(), capture[foot].x(), 1e-9) << foot << " " << share;
+      EXPECT_NEAR(blended[foot].y(),
+                  capture[foot].y() + share * (paper[foot].y() - capture[foot].y()), 1e-9)
+          << foot << " " << share;
+    }
   }
 }
 

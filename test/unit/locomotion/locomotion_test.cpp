@@ -334,7 +334,7 @@ TEST_F(Locomotion, APushWalkingTakesTheBaseReferenceWhereThePushTookTheBody) {
   const int y = L.kBasePosition + 1;
   // The plan's base y at its last node relative to its first, the whole robot moved `off`
   // along +y after 1.5 s of walking, with a push along -x (the footholds' switch; against the
-  // walk, the capture point's both ways: gait::walkingCaptureAxis) or none.
+  // walk, the capture point's both ways: gait::walkingPushAxis) or none.
   const auto drift = [&](double push, double off) {
     Walk walk(*this, 0.5);
     walk.run(1.5);
