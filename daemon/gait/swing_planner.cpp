@@ -191,21 +191,20 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
                 (!step || std::abs(steps_[k].touchDown - s.touchDown) <
                               std::abs(step->touchDown - s.touchDown)))
               step = &steps_[k];
-          const Eigen::Vector2d foothold =
-              step ? step->foothold : Eigen::Vector2d(s.liftOffPosition.head<2>());
-          Eigen::Vector2d captured = foothold + onFoot;
+          s.foothold = step ? step->foothold : Eigen::Vector2d(s.liftOffPosition.head<2>());
           if (blend) {
             const Eigen::Vector2d& a = params_.captureAxis;
-            const Eigen::Vector2d d = p.head<2>() - captured;
-            captured += params_.paperAcross * (d - a * a.dot(d));
+            const Eigen::Vector2d d = p.head<2>() - onFoot - s.foothold;
+            s.foothold += params_.paperAcross * (d - a * a.dot(d));
           }
-          p.head<2>() = captured;
+          p.head<2>() = s.foothold + onFoot;
+        } else {
+          // The foot's centre where this point lands: when the capture point's rule takes over
+          // (the walking push switch) while this swing is held, its next step starts from here.
+          s.foothold = p.head<2>() - onFoot;
         }
         p.z() = terrain.height(p.x(), p.y());
         s.touchDownPosition = p;
-        // The foot's centre where this point lands: when the capture point's rule takes over
-        // (the walking push switch) while this swing is held, its next step starts from here.
-        s.foothold = p.head<2>() - onFoot;
       }
       // A swing re-aimed on its way moves on from where its reference is now (capture point
       // rule; the paper's swings keep their one cubic from lift-off).
