@@ -72,7 +72,7 @@ struct WalkingPushAxis {
 /// shorter cycles, faster swings, the heavy legs' swings rocking the body sideways. The capture
 /// point's footholds across the push answer that sway with a deadbeat step each time, and the
 /// sway grew (1.0 m/s, 60 N along +x: the body's sideways velocity from ±0.2 to ±0.45 m/s, the
-/// feet 0.55 m apart, a step crossed in next to the other foot and the robot fell). Across such
+/// feet 0.54 m apart, a step crossed in next to the other foot and the robot fell). Across such
 /// a push there is nothing to catch: the paper's footholds, which walk steadier (README, the
 /// study), keep the gait there. A push against or across the walk keeps the capture point's
 /// footholds both ways: with the paper's sideways under a push from ahead at 0.5 m/s the body

@@ -9,7 +9,9 @@
 //   kCapturePoint  step adjustment (step_adjustment.hpp): the feet's footholds in touch-down
 //                  order from the capture point of the measured centre of mass (and an
 //                  external force's offset), within the reach of each step; each contact point
-//                  then sits at its place on its foot, turned to the heading at touch-down.
+//                  then sits at its place on its foot, turned to the heading at touch-down;
+//                  with a share `paperAcross`, each foothold moves that fraction of the way to
+//                  the paper's across `captureAxis` (a push along the walk, recovery.hpp).
 // A swing in progress keeps its lift-off and re-aims its touch-down until `replanUntil` of its
 // duration, then holds it; a re-aimed swing moves on from where its reference is (a cubic from
 // its position and velocity then, swing_trajectory.hpp), so the foot never jumps. Left footholds
