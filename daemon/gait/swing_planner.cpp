@@ -170,7 +170,8 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
       } else {
         const Eigen::Vector2d onFoot =
             placeOnFoot(c, state.base.yaw + command.yawRate * (s.touchDown - state.t));
-        const bool blend = capture && params_.paperAcross > 0.0;
+        const WalkingPushAxis& push = params_.walkingPush;
+        const bool blend = capture && push.paperAcross > 0.0;
         Eigen::Vector3d p = Eigen::Vector3d::Zero();
         if (!capture || blend) {
           const PlanarPose base = state.base.predicted(command, s.touchDown - state.t);
@@ -193,9 +194,8 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
               step = &steps_[k];
           s.foothold = step ? step->foothold : Eigen::Vector2d(s.liftOffPosition.head<2>());
           if (blend) {
-            const Eigen::Vector2d& a = params_.captureAxis;
             const Eigen::Vector2d d = p.head<2>() - onFoot - s.foothold;
-            s.foothold += params_.paperAcross * (d - a * a.dot(d));
+            s.foothold += push.paperAcross * (d - push.axis * push.axis.dot(d));
           }
           p.head<2>() = s.foothold + onFoot;
         } else {

@@ -10,8 +10,9 @@
 //                  order from the capture point of the measured centre of mass (and an
 //                  external force's offset), within the reach of each step; each contact point
 //                  then sits at its place on its foot, turned to the heading at touch-down;
-//                  with a share `paperAcross`, each foothold moves that fraction of the way to
-//                  the paper's across `captureAxis` (a push along the walk, recovery.hpp).
+//                  with a share `walkingPush.paperAcross`, each foothold moves that fraction of
+//                  the way to the paper's across `walkingPush.axis` (a push along the walk,
+//                  recovery.hpp).
 // A swing in progress keeps its lift-off and re-aims its touch-down until `replanUntil` of its
 // duration, then holds it; a re-aimed swing moves on from where its reference is (a cubic from
 // its position and velocity then, swing_trajectory.hpp), so the foot never jumps. Left footholds
@@ -30,6 +31,7 @@
 #include "gait/contact_schedule.hpp"
 #include "gait/foothold_search.hpp"
 #include "gait/footholds.hpp"
+#include "gait/recovery.hpp"
 #include "gait/step_adjustment.hpp"
 #include "gait/swing_trajectory.hpp"
 
@@ -51,10 +53,9 @@ struct SwingPlannerParameters {
   StepLimits limits;            ///< kCapturePoint (minWidth: minFeetDistance)
   double comHeight = 0.8;       ///< kCapturePoint: the pendulum's height, m (ω = sqrt(g/h)), set by the planner
   FootholdSearchParameters search;  ///< kPaper: footholds off unknown cells, edges and steep cells
-  /// kCapturePoint: across `captureAxis` (unit, world), the footholds are moved this fraction
-  /// (0 to 1) of the way from the capture point's to the paper's (gait::walkingPushAxis).
-  Eigen::Vector2d captureAxis = Eigen::Vector2d::UnitX();
-  double paperAcross = 0.0;
+  /// kCapturePoint: across a push along the walk, the footholds moved part of the way to the
+  /// paper's (gait::walkingPushAxis; none by default).
+  WalkingPushAxis walkingPush;
 };
 
 /// What the planner needs to know about the robot now.

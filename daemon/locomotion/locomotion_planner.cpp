@@ -306,13 +306,10 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
   if ((recoveryActive_ && !operatorCommand.walk) || pushStepping_)
     swing.rule = gait::FootholdRule::kCapturePoint;
   // Handed over from the paper's footholds: across a push along the walk, the paper's keep them.
-  if (pushStepping_ && operatorCommand.walk && settings_.swing.rule == gait::FootholdRule::kPaper) {
-    const gait::WalkingPushAxis push = gait::walkingPushAxis(
+  if (pushStepping_ && operatorCommand.walk && settings_.swing.rule == gait::FootholdRule::kPaper)
+    swing.walkingPush = gait::walkingPushAxis(
         pushDirection_,
         gait::fromHeading(Eigen::Vector2d(command.vx, command.vy), gaitState.base.yaw));
-    swing.captureAxis = push.axis;
-    swing.paperAcross = push.paperAcross;
-  }
   swings_.setParameters(swing);
   swings_.update(schedule_, gaitState, planarCommand(command), horizon, terrain_);
 

@@ -453,8 +453,8 @@ TEST_F(SwingPlannerTest, AcrossAPushAxisTheFootholdsMoveTowardsThePapers) {
     SwingPlannerParameters p = defaults();
     p.rule = rule;
     p.comHeight = 0.8;
-    p.captureAxis = Eigen::Vector2d::UnitX();
-    p.paperAcross = paperAcross;
+    p.walkingPush.axis = Eigen::Vector2d::UnitX();
+    p.walkingPush.paperAcross = paperAcross;
     SwingPlanner planner(p, offsets);
     planner.update(schedule, s, cmd, 1.0, FlatTerrain());
     return std::array<Eigen::Vector3d, 2>{planner.swingAt(kLeftToe, 0.2)->touchDownPosition,

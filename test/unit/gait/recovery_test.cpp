@@ -185,21 +185,22 @@ TEST(StandingRecovery, AStepBackTakesItsTimeFromTheHeel) {
 
 TEST(WalkingPush, ThePapersFootholdsKeepTheSideOfAPushAlongTheWalk) {
   const Eigen::Vector2d walking(0.0, 1.0);  // walking along +y (world) at 1 m/s
-  const auto share = [&](const Eigen::Vector2d& push) { return walkingPushAxis(push, walking); };
+  const auto pushAxis = [&](const Eigen::Vector2d& push) { return walkingPushAxis(push, walking); };
   // Along the walk: the push's axis, and across it the paper's footholds.
-  EXPECT_LT((share({0.0, 60.0}).axis - Eigen::Vector2d(0.0, 1.0)).norm(), 1e-12);
-  EXPECT_NEAR(share({0.0, 60.0}).paperAcross, 1.0, 1e-12);
+  EXPECT_LT((pushAxis({0.0, 60.0}).axis - Eigen::Vector2d(0.0, 1.0)).norm(), 1e-12);
+  EXPECT_NEAR(pushAxis({0.0, 60.0}).paperAcross, 1.0, 1e-12);
   // 30° off it: cos 60° = 0.5, whatever the push's size; the axis is the push's.
   const Eigen::Vector2d off30(std::sin(M_PI / 6.0), std::cos(M_PI / 6.0));
-  EXPECT_NEAR(share(40.0 * off30).paperAcross, 0.5, 1e-12);
-  EXPECT_NEAR(share(Eigen::Vector2d(-off30.x(), off30.y())).paperAcross, 0.5, 1e-12);  // other side
-  EXPECT_LT((share(40.0 * off30).axis - off30).norm(), 1e-12);
+  EXPECT_NEAR(pushAxis(40.0 * off30).paperAcross, 0.5, 1e-12);
+  EXPECT_NEAR(pushAxis(Eigen::Vector2d(-off30.x(), off30.y())).paperAcross, 0.5,
+              1e-12);  // other side
+  EXPECT_LT((pushAxis(40.0 * off30).axis - off30).norm(), 1e-12);
   // 45° or more off it, across it, against it, standing, no push: the capture point's both ways.
-  EXPECT_NEAR(share({40.0, 40.0}).paperAcross, 0.0, 1e-12);
-  EXPECT_EQ(share({60.0, 10.0}).paperAcross, 0.0);
-  EXPECT_EQ(share({0.0, -60.0}).paperAcross, 0.0);
+  EXPECT_NEAR(pushAxis({40.0, 40.0}).paperAcross, 0.0, 1e-12);
+  EXPECT_EQ(pushAxis({60.0, 10.0}).paperAcross, 0.0);
+  EXPECT_EQ(pushAxis({0.0, -60.0}).paperAcross, 0.0);
   EXPECT_EQ(walkingPushAxis({0.0, 60.0}, Eigen::Vector2d::Zero()).paperAcross, 0.0);
-  EXPECT_EQ(share(Eigen::Vector2d::Zero()).paperAcross, 0.0);
+  EXPECT_EQ(pushAxis(Eigen::Vector2d::Zero()).paperAcross, 0.0);
 }
 
 }  // namespace
