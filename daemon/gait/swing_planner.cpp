@@ -16,21 +16,21 @@ Eigen::Vector3d SwingPlanner::keepFeetApart(int contact, const Eigen::Vector3d& 
                                             double yaw, const GaitState& state) const {
   // The other foot's point at the same place along the foot (toe with toe, heel with heel).
   const int other = (contact + 2) % kNumContacts;
-  const double cy = std::cos(yaw), sy = std::sin(yaw);
   const Eigen::Vector3d d = foothold - state.contactPositions[other];
-  const double lateral = -sy * d.x() + cy * d.y();  // left of the other point, heading frame
+  const double lateral = toHeading(d.head<2>(), yaw).y();  // left of the other point
   const double side = isLeft(contact) ? 1.0 : -1.0;
   const double shortfall = params_.minFeetDistance - side * lateral;
   if (shortfall <= 0.0) return foothold;
-  return foothold + side * shortfall * Eigen::Vector3d(-sy, cy, 0.0);
+  Eigen::Vector3d left = Eigen::Vector3d::Zero();
+  left.head<2>() = fromHeading(Eigen::Vector2d::UnitY(), yaw);
+  return foothold + side * shortfall * left;
 }
 
 Eigen::Vector2d SwingPlanner::placeOnFoot(int contact, double yaw) const {
   const Eigen::Vector3d centre = 0.5 * (nominalOffsets_[isLeft(contact) ? kLeftToe : kRightToe] +
                                         nominalOffsets_[isLeft(contact) ? kLeftHeel : kRightHeel]);
   const Eigen::Vector3d local = nominalOffsets_[contact] - centre;
-  const double cy = std::cos(yaw), sy = std::sin(yaw);
-  return Eigen::Vector2d(cy * local.x() - sy * local.y(), sy * local.x() + cy * local.y());
+  return fromHeading(local.head<2>(), yaw);
 }
 
 double SwingPlanner::omega() const {
@@ -131,9 +131,8 @@ void SwingPlanner::update(const ContactSchedule& schedule, const GaitState& stat
                           const VelocityCommand& command, double horizon,
                           const TerrainQuery& terrain) {
   const double until = state.t + horizon;
-  const double cy = std::cos(state.base.yaw), sy = std::sin(state.base.yaw);
-  const Eigen::Vector3d vDesired(cy * command.vx - sy * command.vy, sy * command.vx + cy * command.vy,
-                                 0.0);
+  Eigen::Vector3d vDesired = Eigen::Vector3d::Zero();
+  vDesired.head<2>() = fromHeading(Eigen::Vector2d(command.vx, command.vy), state.base.yaw);
   const bool capture = params_.rule == FootholdRule::kCapturePoint;
   stepsLimited_ = false;
   if (capture) planSteps(schedule, state, command, until);
