@@ -277,6 +277,11 @@ INSTANTIATE_TEST_SUITE_P(
 /// of the fast gait wider each time.
 class FastWalkingPushAlongTheWalk : public ::testing::TestWithParam<double> {};
 
+/// A test's name from its phase: "Phase" and the phase in thousandths of the cycle.
+std::string phaseName(const ::testing::TestParamInfo<double>& info) {
+  return "Phase" + std::to_string(static_cast<int>(std::lround(1000.0 * info.param)));
+}
+
 TEST_P(FastWalkingPushAlongTheWalk, SixtyNewtonsForOneSecond) {
   const PushOutcome out = walkingSixtyNewtons(kDefaultProfile, 0.0, GetParam(), 1.0);
   EXPECT_TRUE(out.survived) << out.message;
@@ -284,10 +289,31 @@ TEST_P(FastWalkingPushAlongTheWalk, SixtyNewtonsForOneSecond) {
 
 INSTANTIATE_TEST_SUITE_P(Push, FastWalkingPushAlongTheWalk,
                          ::testing::Values(0.0, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875),
-                         [](const ::testing::TestParamInfo<double>& info) {
-                           return "Phase" + std::to_string(
-                                                static_cast<int>(std::lround(1000.0 * info.param)));
-                         });
+                         phaseName);
+
+/// Issue 13 at 1.0 m/s on the default profile, across the walk: 60 N for 1 s on the torso along
+/// +y, starting at each eighth of the gait cycle but one, a fresh robot: no fall, still walking
+/// 4 s after the push. Not the mirror cells: at this speed they are not alike (+y at 0.25 holds
+/// 50 N, -y at 0.75 100 N; ballast-push-map --speeds 1.0 --angles 90,270 --phases 16 --step 10
+/// --max 100), so +y is tried itself.
+class FastWalkingPushAcrossTheWalk : public ::testing::TestWithParam<double> {};
+
+TEST_P(FastWalkingPushAcrossTheWalk, SixtyNewtonsForOneSecond) {
+  const PushOutcome out = walkingSixtyNewtons(kDefaultProfile, 90.0, GetParam(), 1.0);
+  EXPECT_TRUE(out.survived) << out.message;
+}
+
+INSTANTIATE_TEST_SUITE_P(Push, FastWalkingPushAcrossTheWalk,
+                         ::testing::Values(0.0, 0.125, 0.375, 0.5, 0.625, 0.75, 0.875), phaseName);
+
+/// The eighth that falls (README, Pushes): the push begins 0.1 s before the right foot lands,
+/// and the left foot's step out, 0.84 m forward and 0.33 m out in a 0.315 s swing, catches the
+/// ground with its toe 60 ms early and drags; the robot falls 0.7 s after the push began. Kept
+/// as the issue's open case: --gtest_also_run_disabled_tests runs it.
+TEST(Push, DISABLED_FastWalkingPushAcrossTheWalkAtAQuarter) {
+  const PushOutcome out = walkingSixtyNewtons(kDefaultProfile, 90.0, 0.25, 1.0);
+  EXPECT_TRUE(out.survived) << out.message;
+}
 
 /// Issue 13, walking along x with the push profile (profiles/sim-flat-push.yaml: capture-point
 /// footholds, step timing, the whole-body controller's joint limits, the MPC's pelvis roll
@@ -308,11 +334,7 @@ TEST_P(WalkingBackwardPush, SixtyNewtonsLevelPelvis) {
 
 INSTANTIATE_TEST_SUITE_P(Push, WalkingBackwardPush,
                          // Phase p and p + 0.5 are mirror cells.
-                         ::testing::Values(0.0, 0.125, 0.25, 0.375),
-                         [](const ::testing::TestParamInfo<double>& info) {
-                           return "Phase" + std::to_string(
-                                                static_cast<int>(std::lround(1000.0 * info.param)));
-                         });
+                         ::testing::Values(0.0, 0.125, 0.25, 0.375), phaseName);
 
 /// The paper's push per kilogram on a lighter robot: mass-35 (the humanoid with every mass and
 /// effort limit scaled to 35 kg, point feet; test/integration/daemon/profiles/mass-35.yaml.in)
@@ -340,8 +362,7 @@ TEST_P(LighterRobotSidewaysPush, ThePapersPushPerKilogram) {
 
 INSTANTIATE_TEST_SUITE_P(Push, LighterRobotSidewaysPush, ::testing::Values(0.5, 0.625),
                          [](const ::testing::TestParamInfo<double>& info) {
-                           return "PlusYPhase" + std::to_string(static_cast<int>(
-                                                     std::lround(1000.0 * info.param)));
+                           return "PlusY" + phaseName(info);
                          });
 
 /// Walking with no push the estimated external force stays well under the walking push switch
