@@ -51,6 +51,17 @@ PushOutcome walkingSixtyNewtons(const std::string& profile, double directionDeg,
   return out;
 }
 
+/// A test's name for a push at `phase` (fraction of the gait cycle): "Phase" and the phase in
+/// thousandths of the cycle.
+std::string phaseName(double phase) {
+  return "Phase" + std::to_string(static_cast<int>(std::lround(1000.0 * phase)));
+}
+
+/// phaseName of a test whose parameter is the phase.
+std::string phaseParamName(const ::testing::TestParamInfo<double>& info) {
+  return phaseName(info.param);
+}
+
 const std::string kPushProfile = std::string(BALLAST_SOURCE_DIR) + "/profiles/sim-flat-push.yaml";
 
 /// Issue 6 §3 at every phase: walking at 0.5 m/s, a 40 N push along x on the torso for 1 s,
@@ -219,8 +230,8 @@ TEST_P(WalkingSidewaysPush, SixtyNewtonsForOneSecond) {
 }
 
 std::string sidewaysName(const ::testing::TestParamInfo<std::tuple<double, double>>& info) {
-  return std::string(std::get<0>(info.param) > 180.0 ? "MinusY" : "PlusY") + "Phase" +
-         std::to_string(static_cast<int>(std::lround(1000.0 * std::get<1>(info.param))));
+  return std::string(std::get<0>(info.param) > 180.0 ? "MinusY" : "PlusY") +
+         phaseName(std::get<1>(info.param));
 }
 
 INSTANTIATE_TEST_SUITE_P(
@@ -264,8 +275,10 @@ INSTANTIATE_TEST_SUITE_P(
     Push, WalkingPushEveryDirection, ::testing::ValuesIn(everyDirectionCells()),
     [](const ::testing::TestParamInfo<std::tuple<double, double>>& info) {
       const double d = std::get<0>(info.param);
-      return std::string(d == 0.0 ? "PlusX" : d == 180.0 ? "MinusX" : "PlusY") + "Phase" +
-             std::to_string(static_cast<int>(std::lround(1000.0 * std::get<1>(info.param))));
+      return std::string(d == 0.0     ? "PlusX"
+                         : d == 180.0 ? "MinusX"
+                                      : "PlusY") +
+             phaseName(std::get<1>(info.param));
     });
 
 /// Issue 13 at 1.0 m/s on the default profile: 60 N for 1 s on the torso along +x, starting at
@@ -277,11 +290,6 @@ INSTANTIATE_TEST_SUITE_P(
 /// of the fast gait wider each time.
 class FastWalkingPushAlongTheWalk : public ::testing::TestWithParam<double> {};
 
-/// A test's name from its phase: "Phase" and the phase in thousandths of the cycle.
-std::string phaseName(const ::testing::TestParamInfo<double>& info) {
-  return "Phase" + std::to_string(static_cast<int>(std::lround(1000.0 * info.param)));
-}
-
 TEST_P(FastWalkingPushAlongTheWalk, SixtyNewtonsForOneSecond) {
   const PushOutcome out = walkingSixtyNewtons(kDefaultProfile, 0.0, GetParam(), 1.0);
   EXPECT_TRUE(out.survived) << out.message;
@@ -289,7 +297,7 @@ TEST_P(FastWalkingPushAlongTheWalk, SixtyNewtonsForOneSecond) {
 
 INSTANTIATE_TEST_SUITE_P(Push, FastWalkingPushAlongTheWalk,
                          ::testing::Values(0.0, 0.125, 0.25, 0.375, 0.5, 0.625, 0.75, 0.875),
-                         phaseName);
+                         phaseParamName);
 
 /// Issue 13 at 1.0 m/s on the default profile, across the walk: 60 N for 1 s on the torso along
 /// +y, starting at each eighth of the gait cycle but one, a fresh robot: no fall, still walking
@@ -304,7 +312,8 @@ TEST_P(FastWalkingPushAcrossTheWalk, SixtyNewtonsForOneSecond) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Push, FastWalkingPushAcrossTheWalk,
-                         ::testing::Values(0.0, 0.125, 0.375, 0.5, 0.625, 0.75, 0.875), phaseName);
+                         ::testing::Values(0.0, 0.125, 0.375, 0.5, 0.625, 0.75, 0.875),
+                         phaseParamName);
 
 /// The eighth that falls (README, Pushes): the push begins 0.1 s before the right foot lands,
 /// and the left foot's step out, 0.84 m forward and 0.33 m out in a 0.315 s swing, catches the
@@ -334,7 +343,7 @@ TEST_P(WalkingBackwardPush, SixtyNewtonsLevelPelvis) {
 
 INSTANTIATE_TEST_SUITE_P(Push, WalkingBackwardPush,
                          // Phase p and p + 0.5 are mirror cells.
-                         ::testing::Values(0.0, 0.125, 0.25, 0.375), phaseName);
+                         ::testing::Values(0.0, 0.125, 0.25, 0.375), phaseParamName);
 
 /// The paper's push per kilogram on a lighter robot: mass-35 (the humanoid with every mass and
 /// effort limit scaled to 35 kg, point feet; test/integration/daemon/profiles/mass-35.yaml.in)
@@ -362,7 +371,7 @@ TEST_P(LighterRobotSidewaysPush, ThePapersPushPerKilogram) {
 
 INSTANTIATE_TEST_SUITE_P(Push, LighterRobotSidewaysPush, ::testing::Values(0.5, 0.625),
                          [](const ::testing::TestParamInfo<double>& info) {
-                           return "PlusY" + phaseName(info);
+                           return "PlusY" + phaseName(info.param);
                          });
 
 /// Walking with no push the estimated external force stays well under the walking push switch
