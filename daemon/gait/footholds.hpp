@@ -1,10 +1,16 @@
 // Footholds by the paper's eq. (desired_swing_traj): Raibert heuristic, capture-point velocity
 // feedback and a centrifugal term,
-//     p_d = p_hip + Δt/2·v_des + k (v − v_des) + sqrt(h/|g|)·v × ω_des,      k = 0.15,
+//     p_d = p_hip + Δt/2·v_des + k (v − v_des) + (h/|g|)·v × ω_des,      k = 0.15,
 // with Δt the stance duration, v and v_des the measured and desired base velocity (world), h the
 // nominal base height and ω_des the desired base angular velocity. p_hip is where the contact
 // point sits under its hip in the nominal stance, at the touch-down time: the base pose is
 // predicted there by integrating the commanded velocity. The height comes from the terrain.
+// The centrifugal term is the inverted pendulum's: a steady turn accelerates the centre of mass
+// inwards by v·ω, which the pendulum gets from its centre of pressure (h/|g|)·v·ω outside it.
+// The paper writes sqrt(h/|g|) there, which gives m/s, not m; at h = 0.85 m its offset is
+// sqrt(|g|/h) = 3.4 times the pendulum's. Walking at 0.8 m/s and turning at 0.4 rad/s, its feet
+// landed 9 cm outwards, the inner one under the pelvis, and the robot fell within 7 s.
+// Straight walking (ω_des = 0) is the paper's.
 #pragma once
 
 #include <Eigen/Core>
@@ -68,8 +74,8 @@ inline Eigen::Vector3d raibertFoothold(const PlanarPose& baseAtTouchDown,
       Eigen::Vector3d(cy * nominalOffset.x() - sy * nominalOffset.y(),
                       sy * nominalOffset.x() + cy * nominalOffset.y(), 0.0);
   const Eigen::Vector3d capture = 0.5 * stanceDuration * vDesired + params.feedbackGain * (v - vDesired);
-  const Eigen::Vector3d centrifugal = std::sqrt(params.nominalHeight / params.gravity) *
-                                      v.cross(Eigen::Vector3d(0.0, 0.0, yawRateDesired));
+  const Eigen::Vector3d centrifugal =
+      (params.nominalHeight / params.gravity) * v.cross(Eigen::Vector3d(0.0, 0.0, yawRateDesired));
   Eigen::Vector3d p = hip + capture + centrifugal;
   p.z() = terrain.height(p.x(), p.y());
   return p;

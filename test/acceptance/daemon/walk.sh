@@ -2,7 +2,8 @@
 # Walk through the CLI (issue 6 §3): `ballast walk --vx VX --vy VY --yaw-rate WZ` from standing
 # for 5 s and then MEASURE s more (default 5) of simulated time. No fall; over those MEASURE s
 # the mean velocity (ground truth, in the heading frame at the start of the window) is within TOL
-# (fraction) of the command;
+# (fraction) of the command; turning, the yaw rate and the speed along the command's arc (WZ times
+# MEASURE under pi: the yaw's change is read unwrapped within a half turn);
 # walking forward, the arms swing (not frozen) in antiphase with each other, as a human's do.
 # Usage: walk.sh BALLASTD BALLAST PROFILE VX VY WZ TOL [MEASURE]
 . "$(dirname "$0")/lib.sh"
@@ -37,6 +38,14 @@ if [ "$WZ" = 0 ]; then
   [ "$VY" = 0 ] || within "$lat" "$VY" "$TOL" || fail "lateral velocity $lat is not within $TOL of $VY"
 else
   within "$wz" "$WZ" "$TOL" || fail "yaw rate $wz is not within $TOL of $WZ"
+  # Turning while walking: the base runs the command's arc, whose chord over the window is
+  # 2 v sin(WZ dt / 2) / WZ.
+  if [ "$VX" != 0 ] || [ "$VY" != 0 ]; then
+    chord=$(calc "sqrt($fwd * $fwd + $lat * $lat)")
+    arc=$(calc "2 * sqrt($VX * $VX + $VY * $VY) * sin($WZ * $dt / 2) / ($WZ * $dt)")
+    echo "speed along the chord $chord m/s (the command's arc: $arc m/s)"
+    within "$chord" "$arc" "$TOL" || fail "speed along the chord $chord is not within $TOL of $arc"
+  fi
 fi
 
 # Arms, walking forward: each shoulder pitch swings through at least 0.05 rad, and the two

@@ -1,12 +1,13 @@
 #!/bin/sh
-# A push while walking (issues 6 §3 and 13): walking at 0.5 m/s, a force on the torso for 1 s;
+# A push while walking (issues 6 §3 and 13): walking at VX (0.5 m/s unless given), a force on
+# the torso for 1 s;
 # no fall, the robot walks on, and 2-3 s after the push's end its velocity (ground truth,
 # averaged over that second) is back within 0.1 m/s of the command, forward and sideways.
 # FORCE is N along x, or FX,FY,FZ in the world frame.
-# Usage: walk_push.sh BALLASTD BALLAST PROFILE FORCE
+# Usage: walk_push.sh BALLASTD BALLAST PROFILE FORCE [VX]
 . "$(dirname "$0")/lib.sh"
 case $4 in *,*) FORCE=$4 ;; *) FORCE="$4,0,0" ;; esac
-VX=0.5
+VX=${5:-0.5}
 
 start_daemon
 wait_until "stand" 30 mode_is stand
