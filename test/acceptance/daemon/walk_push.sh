@@ -1,8 +1,8 @@
 #!/bin/sh
 # A push while walking (issues 6 §3 and 13): walking at VX (0.5 m/s unless given), a force on
-# the torso for 1 s;
-# no fall, the robot walks on, and 2-3 s after the push's end its velocity (ground truth,
-# averaged over that second) is back within 0.1 m/s of the command, forward and sideways.
+# the torso for 1 s; no fall, the robot walks on, and 2-3 s after the push's end its velocity
+# (ground truth, averaged over that second) is back within 0.1 m/s of the command, forward and
+# sideways.
 # FORCE is N along x, or FX,FY,FZ in the world frame.
 # Usage: walk_push.sh BALLASTD BALLAST PROFILE FORCE [VX]
 . "$(dirname "$0")/lib.sh"

@@ -316,9 +316,10 @@ INSTANTIATE_TEST_SUITE_P(Push, FastWalkingPushAcrossTheWalk,
                          phaseParamName);
 
 /// The eighth that falls (README, Pushes): the push begins 0.1 s before the right foot lands,
-/// and the left foot's step out, 0.84 m forward and 0.33 m out in a 0.315 s swing, catches the
-/// ground with its toe 60 ms early and drags; the robot falls 0.7 s after the push began. Kept
-/// as the open case: --gtest_also_run_disabled_tests runs it.
+/// and the left foot's step out, 0.81 m forward and 0.33 m out in a 0.315 s swing, pitches toe
+/// down after its apex and meets the ground 45 ms early, still moving forward at 3.2 m/s; the
+/// robot falls 0.7 s after the push began. Kept as the open case:
+/// --gtest_also_run_disabled_tests runs it.
 TEST(Push, DISABLED_FastWalkingPushAcrossTheWalkAtAQuarter) {
   const PushOutcome out = walkingSixtyNewtons(kDefaultProfile, 90.0, 0.25, 1.0);
   EXPECT_TRUE(out.survived) << out.message;

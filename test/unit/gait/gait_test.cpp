@@ -222,7 +222,7 @@ TEST(Footholds, EachTermOfTheEquation) {
   // pressure's offset that gives the pendulum the turn's inward acceleration v·ω = 0.5 m/s²:
   // (h/g)·v·ω = 0.81 / 9.81 · 0.5 = 4.13 cm.
   const Eigen::Vector3d p = raibertFoothold(base, offset, v, v, 0.5, 0.5, params, ground);
-  EXPECT_NEAR(p.y(), 2.1 - 0.0412844, 1e-6);
+  EXPECT_NEAR(p.y(), 2.1 - 0.81 / 9.81 * 1.0 * 0.5, 1e-12);
   // Heading: the offset turns with the base.
   base.yaw = M_PI / 2;
   EXPECT_LT((raibertFoothold(base, offset, zero, zero, 0, 0.5, params, ground).head<2>() -
