@@ -55,7 +55,9 @@ struct PlanarPose {
 
 struct FootholdParameters {
   double feedbackGain;          ///< k (the profile's gait.foothold_gain)
-  double nominalHeight = 0.85;  ///< h, m
+  /// h: the pendulum's height, the centre of mass above the soles in the nominal posture, m
+  /// (set by the locomotion planner; the capture point's ω = sqrt(g/h) uses it too)
+  double comHeight = 0.8;
   double gravity = 9.81;        ///< |g|
 };
 
@@ -75,7 +77,7 @@ inline Eigen::Vector3d raibertFoothold(const PlanarPose& baseAtTouchDown,
                       sy * nominalOffset.x() + cy * nominalOffset.y(), 0.0);
   const Eigen::Vector3d capture = 0.5 * stanceDuration * vDesired + params.feedbackGain * (v - vDesired);
   const Eigen::Vector3d centrifugal =
-      (params.nominalHeight / params.gravity) * v.cross(Eigen::Vector3d(0.0, 0.0, yawRateDesired));
+      (params.comHeight / params.gravity) * v.cross(Eigen::Vector3d(0.0, 0.0, yawRateDesired));
   Eigen::Vector3d p = hip + capture + centrifugal;
   p.z() = terrain.height(p.x(), p.y());
   return p;

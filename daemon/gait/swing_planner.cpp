@@ -34,7 +34,7 @@ Eigen::Vector2d SwingPlanner::placeOnFoot(int contact, double yaw) const {
 }
 
 double SwingPlanner::omega() const {
-  return pendulumFrequency(params_.comHeight, params_.foothold.gravity);
+  return pendulumFrequency(params_.foothold.comHeight, params_.foothold.gravity);
 }
 
 void SwingPlanner::planSteps(const ContactSchedule& schedule, const GaitState& state,

@@ -48,10 +48,9 @@ struct SwingPlannerParameters {
   double stepLift;
   double replanUntil;      ///< fraction of a swing after which its touch-down is held
   double minFeetDistance;  ///< m, lateral, between left and right contact points
-  FootholdParameters foothold;  ///< kPaper
+  FootholdParameters foothold;  ///< kPaper; its comHeight and gravity serve kCapturePoint too
   FootholdRule rule;            ///< gait.footholds
   StepLimits limits;            ///< kCapturePoint (minWidth: minFeetDistance)
-  double comHeight = 0.8;       ///< kCapturePoint: the pendulum's height, m (ω = sqrt(g/h)), set by the planner
   FootholdSearchParameters search;  ///< kPaper: footholds off unknown cells, edges and steep cells
   /// kCapturePoint: across a push along the walk, the footholds moved part of the way to the
   /// paper's (gait::walkingPushAxis; none by default).

@@ -81,7 +81,7 @@ LocomotionPlanner::LocomotionPlanner(const model::Model& model, const Locomotion
   }
   // The pendulum of the capture point: the centre of mass above the soles in the nominal posture.
   model::compositeWorldInertias(model, data_);
-  settings_.swing.comHeight = data_.com.z() - sole;
+  settings_.swing.foothold.comHeight = data_.com.z() - sole;
   swings_ = gait::SwingPlanner(settings_.swing, stance_);
   if (settings_.model == PlannerModel::kSingleRigidBody) {
     mpc::ProblemSettings p = settings_.problem;

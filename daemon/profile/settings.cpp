@@ -339,7 +339,7 @@ Settings settingsFor(const Profile& p, const model::Model& model) {
           << c.min_pose_height << ", " << c.max_pose_height << "]";
         problems.add(&s.joints.posture, m.str());
       }
-      l.nominalHeight = l.swing.foothold.nominalHeight = h;
+      l.nominalHeight = h;
     } catch (const model::ModelError& e) {
       problems.add(&c.contact_frames, e.what());
     }

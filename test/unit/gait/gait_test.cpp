@@ -202,7 +202,7 @@ TEST(SwingTrajectory, OverAStepTheFootRisesBeforeItMovesAndMovesBeforeItLands) {
 TEST(Footholds, EachTermOfTheEquation) {
   const FlatTerrain ground(0.02);
   FootholdParameters params = defaults().foothold;
-  params.nominalHeight = 0.81;
+  params.comHeight = 0.81;
   PlanarPose base;
   base.position = {1.0, 2.0, 0.8};
   const Eigen::Vector3d offset(0.1, 0.1, 0.0), zero = Eigen::Vector3d::Zero();
@@ -358,7 +358,7 @@ TEST_F(SwingPlannerTest, TheCapturePointSaysWhenItsStepIsHeldToTheLimits) {
   const ContactSchedule schedule(walk(0.8, 0.2), 0.0);
   SwingPlannerParameters params = defaults();
   params.rule = FootholdRule::kCapturePoint;
-  params.comHeight = 0.8;
+  params.foothold.comHeight = 0.8;
   GaitState s = state();
   s.mass = 50.0;
   s.com = Eigen::Vector3d(0.03, 0.0, 0.8);
@@ -454,7 +454,7 @@ TEST_F(SwingPlannerTest, AcrossAPushAxisTheFootholdsMoveTowardsThePapers) {
   auto touchDowns = [&](FootholdRule rule, double paperAcross) {
     SwingPlannerParameters p = defaults();
     p.rule = rule;
-    p.comHeight = 0.8;
+    p.foothold.comHeight = 0.8;
     p.walkingPush.axis = Eigen::Vector2d::UnitX();
     p.walkingPush.paperAcross = paperAcross;
     SwingPlanner planner(p, offsets);
