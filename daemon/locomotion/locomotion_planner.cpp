@@ -421,6 +421,14 @@ void LocomotionPlanner::fillReferences(double t, const gait::PlanarPose& start,
   const double izz = data_.oYcrb[0].inertiaAboutCom()(2, 2);
   const double height = command.height > 0.0 ? command.height : settings_.nominalHeight;
   const gait::VelocityCommand velocity = planarCommand(command);
+  // Turning, the body leans into the turn as the inverted pendulum does: the centre of mass
+  // accelerates by w x v, and the line from the centre of pressure up to it tilts by
+  // atan(|w x v| / g). Held upright (the paper's reference), the body rolled outwards by about
+  // that angle (0.05 rad at 1.0 m/s and 0.4 rad/s), and at 1.2 m/s it fell. Heading frame:
+  // w x v = (-w vy, w vx); a positive pitch leans forward, a positive roll to the right.
+  const double g = -model_.gravity.z();
+  const double leanPitch = std::atan(-velocity.yawRate * velocity.vy / g);
+  const double leanRoll = -std::atan(velocity.yawRate * velocity.vx / g);
 
   auto& refs = sqp_->references();
   for (int k = 0; k <= settings_.sqp.nodes; ++k) {
@@ -454,7 +462,8 @@ void LocomotionPlanner::fillReferences(double t, const gait::PlanarPose& start,
     r.x.segment<3>(3) = Eigen::Vector3d(0.0, 0.0, izz * velocity.yawRate);
     r.x.segment<3>(L.kBasePosition) =
         Eigen::Vector3d(pose.position.x(), pose.position.y(), support + height);
-    r.x.segment<3>(L.kBaseZyx) = Eigen::Vector3d(pose.yaw, command.pitch, command.roll);
+    r.x.segment<3>(L.kBaseZyx) =
+        Eigen::Vector3d(pose.yaw, command.pitch + leanPitch, command.roll + leanRoll);
     if (r.x.size() == L.nx())  // the single rigid body has no joints
       r.x.segment(L.kJoints, model_.nj()) =
           !command.walk && command.standingJoints.size() == model_.nj() ? command.standingJoints

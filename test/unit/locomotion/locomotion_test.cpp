@@ -210,6 +210,29 @@ TEST_F(Locomotion, PlansWalkingAtTheCommandedSpeed) {
   }
 }
 
+TEST_F(Locomotion, TurningTheBodyLeansIntoTheTurnAsThePendulumDoes) {
+  // Walking at 1.0 m/s and turning at +-0.4 rad/s the centre of mass accelerates inwards by
+  // 0.4 m/s^2, and the reference leans the body in by atan(0.4 / 9.81) = 0.041 rad (a left
+  // turn: roll < 0, the body's top to the left). Walked on its own model, the last of 4 s leans
+  // in by 0.027-0.030 rad; upright in the reference it leaned out, by 0.011-0.014 rad.
+  for (double yawRate : {0.4, -0.4}) {
+    Walk walk(*this, 1.0);
+    walk.cmd.yawRate = yawRate;
+    walk.run(3.0);
+    double roll = 0.0;
+    int n = 0;
+    for (; n < 100; ++n) {
+      walk.run(0.01);
+      roll += model::zyxFromRotation(model::quaternionToRotation<double>(walk.q.segment<4>(3)))[2];
+    }
+    roll /= n;
+    const double lean = -std::atan(1.0 * yawRate / 9.81);
+    std::printf("turning at %+.1f rad/s: mean roll %+.4f rad (the pendulum's lean %+.4f)\n",
+                yawRate, roll, lean);
+    EXPECT_NEAR(roll, lean, 0.5 * std::abs(lean)) << yawRate;
+  }
+}
+
 TEST_F(Locomotion, WalksEvenWithoutStateFeedbackBetweenPlans) {
   // Open loop between plans, so the 20 ms forward-Euler model error accumulates each period.
   Eigen::VectorXd q;
