@@ -12,7 +12,8 @@
 // DIR/push_map.dat, and DIR/push_map.png: gnuplot polar plots, one per speed, the radius the
 // largest survived force per direction (the smallest over phases as a line, each phase a point).
 //
-// --trace: one trial (--speed, --direction, --phase, --force), its state every 20 ms.
+// --trace: one trial (--speed, --direction, --phase, --force), its state every 20 ms
+// (--trace-period S: every S, down to a tick).
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -49,6 +50,7 @@ struct Options {
   int jobs = 0;
   std::string out = "push-map";
   bool trace = false;
+  double tracePeriod = 0.02;
   bool unpushed = false;  ///< no pushes: the estimated push walking undisturbed, per speed
   double speed = 0.5, direction = 0.0, phase = 0.0, force = 60.0;
   double standBefore = 1.0;  ///< --stand-before: standing, s from 0.5 s after stand to the push
@@ -64,6 +66,7 @@ struct Options {
                "       ballast-push-map --unpushed [--profile FILE] [--speeds 0.5,1.0,1.2,1.5]\n"
                "       ballast-push-map --trace [--profile FILE] --speed V --direction DEG\n"
                "         --phase FRACTION --force N [--duration 1] [--after 4] [--body LINK]\n"
+               "         [--trace-period 0.02]\n"
                "         [--stand-before 1] (standing: s from 0.5 s after stand to the push)\n");
   std::exit(2);
 }
@@ -94,6 +97,8 @@ Options parse(int argc, char** argv) {
     else if (a == "--guess") o.guess = std::atof(value().c_str());
     else if (a == "--duration") o.duration = std::atof(value().c_str());
     else if (a == "--after") o.after = std::atof(value().c_str());
+    else if (a == "--trace-period")
+      o.tracePeriod = std::atof(value().c_str());
     else if (a == "--body") o.body = value();
     else if (a == "-j" || a == "--jobs") o.jobs = std::atoi(value().c_str());
     else if (a == "--out") o.out = value();
@@ -108,6 +113,7 @@ Options parse(int argc, char** argv) {
     else usage(("unknown argument " + a).c_str());
   }
   if (o.directions < 1 || o.phases < 1 || o.step <= 0.0 || o.max < o.step) usage("bad grid");
+  if (!(o.tracePeriod >= 0.001 && o.tracePeriod <= 1.0)) usage("--trace-period: 0.001 to 1 s");
   if (o.angles.empty())
     for (int d = 0; d < o.directions; ++d) o.angles.push_back(360.0 * d / o.directions);
   if (o.jobs <= 0) o.jobs = std::max(1L, sysconf(_SC_NPROCESSORS_ONLN));
@@ -165,6 +171,7 @@ int trace(const Options& o) {
   t.body = o.body;
   t.standBefore = o.standBefore;
   t.trace = stdout;
+  t.tracePeriod = o.tracePeriod;
   const PushOutcome r = ballast::test::runPushTrial(t);
   std::printf("%s: %s\n", r.survived ? "survived" : "FELL", r.message.c_str());
   return r.survived ? 0 : 1;

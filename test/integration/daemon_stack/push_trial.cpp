@@ -109,8 +109,9 @@ PushOutcome runPushTrial(const PushTrial& trial) {
     return out;
   };
   // Up to the push, tracing as we go.
+  const double step = trial.trace ? trial.tracePeriod : 0.02;
   while (robot.t() < pushAt - 1e-9) {
-    if (!robot.run(std::min(0.02, pushAt - robot.t()))) return fell("before the push");
+    if (!robot.run(std::min(step, pushAt - robot.t()))) return fell("before the push");
     if (trial.trace) traceLine(trial.trace, robot, robot.status(), false);
   }
   const double yaw = robot.status().truth.rpy[2];
@@ -120,7 +121,8 @@ PushOutcome runPushTrial(const PushTrial& trial) {
     throw std::runtime_error("push refused");
   const double pushStart = robot.t(), pushEnd = pushStart + trial.duration;
   const double end = pushEnd + trial.after;
-  // Watch: every 20 ms the status; velocity over the last gait cycle from positions.
+  // Watch: every 20 ms (or trace period) the status; velocity over the last gait cycle from
+  // positions.
   struct Sample {
     double t, x, y;
   };
@@ -128,7 +130,7 @@ PushOutcome runPushTrial(const PushTrial& trial) {
   bool lastContact[2] = {true, true};
   double backInStand = -1.0, velocityBack = -1.0;
   while (robot.t() < end - 1e-9) {
-    if (!robot.run(std::min(0.02, end - robot.t()))) return fell("after the push");
+    if (!robot.run(std::min(step, end - robot.t()))) return fell("after the push");
     const control::LoopStatus s = robot.status();
     if (trial.trace) traceLine(trial.trace, robot, s, s.t < pushEnd);
     out.maxRoll = std::max(out.maxRoll, std::abs(s.truth.rpy[0]));

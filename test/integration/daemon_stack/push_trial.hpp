@@ -22,7 +22,8 @@ struct PushTrial {
   double walkBefore = 4.0;    ///< s walked before the cycle the push lands in
   double standBefore = 1.0;   ///< standing: s from 0.5 s after `stand` to the push
   std::string body = "torso";
-  std::FILE* trace = nullptr;  ///< the state every 20 ms, when set
+  std::FILE* trace = nullptr;  ///< the state every tracePeriod, when set
+  double tracePeriod = 0.02;   ///< s (0.001 for every tick)
 };
 
 struct PushOutcome {
