@@ -1,5 +1,5 @@
 // The kino-dynamic MPC in the control loop's planner seat (PlannerSlot): PlannerInput ->
-// locomotion::LocomotionPlanner (gait, footholds, swing trajectories, one SQP iteration) ->
+// locomotion::LocomotionPlanner (gait, footholds, swing trajectories, SQP iterations) ->
 // PlannerOutput. Runs on the planner thread only.
 //
 //   mode walk  -> LocomotionCommand{walk, the velocity command while it is active (else 0)}

@@ -1,6 +1,6 @@
 // The planner pipeline of the paper's Fig. 4, up to the whole-body controller:
 //   operator command + estimated state -> gait (contact schedule, footholds, swing
-//   trajectories) -> references per MPC node -> one SQP iteration -> Plan
+//   trajectories) -> references per MPC node -> SQP iterations (SqpSolver::solve) -> Plan
 // and PlanSampler, which reads a Plan at the controller's rate.
 //
 // The operator's velocity is slewed (maxAcceleration); walking from standing starts

@@ -138,11 +138,48 @@ void SqpSolver::sweepProjected(bool matricesOnly) {
   sweepCpuMs_ += msSince(begin);
 }
 
+bool SqpSolver::solve(double t0, const Eigen::VectorXd& xMeasured) {
+  const bool ok = iterate(t0, xMeasured);
+  double linearizeMs = stats_.linearizeMs, projectionMs = stats_.projectionMs,
+         riccatiMs = stats_.riccatiMs, lineSearchMs = stats_.lineSearchMs, totalMs = stats_.totalMs;
+  const int preparedNodes = stats_.preparedNodes, preparedSweeps = stats_.preparedSweeps;
+  int iterations = 1;
+  while (ok && iterations < settings_.maxIterations &&
+         stats_.violation > settings_.violationTolerance && stats_.step > 0.0) {
+    const double cost = stats_.cost, violation = stats_.violation, step = stats_.step;
+    const bool again = iterate(t0, xMeasured);
+    ++iterations;
+    linearizeMs += stats_.linearizeMs;
+    projectionMs += stats_.projectionMs;
+    riccatiMs += stats_.riccatiMs;
+    lineSearchMs += stats_.lineSearchMs;
+    totalMs += stats_.totalMs;
+    if (!again) {  // the solution before it stands
+      stats_.ok = true;
+      stats_.cost = cost;
+      stats_.violation = violation;
+      stats_.step = step;
+      stats_.message.clear();
+      break;
+    }
+  }
+  stats_.linearizeMs = linearizeMs;
+  stats_.projectionMs = projectionMs;
+  stats_.riccatiMs = riccatiMs;
+  stats_.lineSearchMs = lineSearchMs;
+  stats_.totalMs = totalMs;
+  stats_.preparedNodes = preparedNodes;
+  stats_.preparedSweeps = preparedSweeps;
+  stats_.iterations = iterations;
+  return ok;
+}
+
 bool SqpSolver::iterate(double t0, const Eigen::VectorXd& xMeasured) {
   const auto start = Clock::now();
   const int N = settings_.nodes;
   const double dt = settings_.dt;
   stats_ = SqpStatistics{};
+  stats_.iterations = 1;
   if (!xMeasured.allFinite()) return fail("the measured state has a NaN or infinite entry");
   // Prepared for (about) this time: the warm start is taken on the prepared grid, so that it
   // is the point prepared.

@@ -1,5 +1,6 @@
 // Multiple-shooting Gauss-Newton SQP for an optimal control problem (the kino-dynamic one of
-// kinodynamic_problem.hpp), one real-time iteration per call (the paper solves it with OCS2's
+// kinodynamic_problem.hpp), one real-time iteration per iterate() call, and in solve() more while
+// the plan is far from feasible (the paper solves it with OCS2's
 // SQP at ~100 Hz; this is ours, on Eigen).
 //
 // iterate(t0, x̂):
@@ -57,6 +58,10 @@ struct SqpSettings {
   double constraintSmall = 1e-6;   ///< below: a step must reduce the cost (OCS2 g_min)
   double armijo = 1e-4;
   double filterMargin = 1e-6;      ///< γ_c
+  /// solve(): iterations at most; past the first, only while the violation (SqpStatistics) is
+  /// over violationTolerance.
+  int maxIterations = 1;
+  double violationTolerance = 1.0;
 };
 
 struct SqpStatistics {
@@ -73,6 +78,7 @@ struct SqpStatistics {
   double cost = 0.0;           ///< after the step
   double violation = 0.0;      ///< sqrt(Σ‖defects‖² + Σ‖equalities‖²) after the step
   double step = 0.0;           ///< accepted step length, 0 if none
+  int iterations = 0;          ///< in this solve() (iterate(): 1); the times above are their sums
   bool ok = false;
   std::string message;         ///< why an iteration failed
 };
@@ -87,6 +93,14 @@ class SqpSolver {
 
   /// One SQP iteration from the measured state at time t0. Returns statistics().ok.
   bool iterate(double t0, const Eigen::VectorXd& xMeasured);
+  /// iterate(t0, x̂), then again from the same t0 and x̂ while the plan is far from feasible
+  /// (its violation over settings().violationTolerance, a step taken), up to
+  /// settings().maxIterations in all. One iteration leaves a plan that a jump of the references
+  /// (footholds moved by a push, a contact mode come early) made infeasible nearly so, and the
+  /// controller tracks it: its base accelerations jumped by tens of m/s² from one plan to the
+  /// next. An extra iteration that fails leaves the one before it standing (the solution
+  /// iterate() keeps), reported as it was. Returns statistics().ok.
+  bool solve(double t0, const Eigen::VectorXd& xMeasured);
   /// Ahead of iterate(t0, ·), on references() as the caller expects them at t0: see the header.
   /// Nothing before the first solution, nor for a
   /// problem that does not keep its nodes' matrices (OptimalControlProblem::keepsMatrices). An

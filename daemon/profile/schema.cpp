@@ -146,6 +146,8 @@ const Schema<Settings> kTable({
       return "";
     }},
   integer("planner.threads", "2", 1, 16, "", "threads that linearise the MPC's nodes").into<&S::control, &C::locomotion, &L::sqp, &SQ::threads>(),
+  integer("planner.max_iterations", "3", 1, 20, "", "SQP iterations per plan at most: past the first (the real-time iteration), only while the plan is far from feasible, its violation over planner.violation_tolerance (mpc/sqp_solver.hpp, solve): a push's moved footholds left one iteration's plan with base accelerations that jumped by tens of m/s² from plan to plan; each iteration costs a plan's time again; 1: the real-time iteration alone").into<&S::control, &C::locomotion, &L::sqp, &SQ::maxIterations>(),
+  number("planner.violation_tolerance", "0.3", 0, 1e6, "", "the plan's violation, sqrt(sum of its dynamics defects² and equality residuals²) over the horizon in SI units, above which it takes another SQP iteration (planner.max_iterations): ten times what walking undisturbed leaves (about 0.025)").into<&S::control, &C::locomotion, &L::sqp, &SQ::violationTolerance>(),
   number("planner.max_acceleration", "1", 0.05, 10, "m/s^2", "the commanded velocity slews toward the operator's at this rate").into<&S::control, &C::locomotion, &L::maxAcceleration>(),
   number("planner.max_yaw_acceleration", "1.5", 0.05, 20, "rad/s^2", "the commanded yaw rate slews toward the operator's at this rate").into<&S::control, &C::locomotion, &L::maxYawAcceleration>(),
   number("planner.max_position_lead", "0.15", 0.01, 1, "m", "walking: the commanded base position is kept this close to the measured one").into<&S::control, &C::locomotion, &L::maxPositionLead>(),

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <tuple>
 
 #include "model/algorithms.hpp"
 #include "mpc/kinodynamic_problem.hpp"
@@ -182,6 +183,20 @@ class Kinodynamic : public ::testing::Test {
     for (int c = 0; c < 4; ++c) r.u[L.force(c) + 2] = m.totalMass() * 9.81 / 4;
     return r;
   }
+  /// Standing on the right foot in the standing posture, the left one held where it is.
+  NodeReference rightFootReference(int nu) const {
+    model::Data<double> d(m);
+    model::forwardKinematics(m, d, qStand);
+    NodeReference r = standingReference(nu);
+    r.stance = {false, false, true, true};
+    r.u.setZero();
+    for (int c : {2, 3}) r.u[L.force(c) + 2] = m.totalMass() * 9.81 / 2;
+    for (int c : {0, 1}) {
+      r.swingPosition[c] = model::framePlacement(m, d, frames[c]).p;
+      r.swingVelocity[c].setZero();
+    }
+    return r;
+  }
 };
 
 TEST_F(Kinodynamic, LinearizationMatchesFiniteDifferences) {
@@ -344,15 +359,7 @@ TEST_F(Kinodynamic, AFootStandingAloneHoldsTheBodyBesideItsToeHeelLineWithItsSol
   const double offset = d.com.y() - line;  // > 0: left of the right foot
   ASSERT_GT(offset, 0.05);
   const Eigen::VectorXd x0 = stateOf(qStand, model::Vec6<double>::Zero());
-  NodeReference ref = standingReference(problem.nu());
-  ref.stance = {false, false, true, true};
-  ref.u.setZero();
-  for (int c : {2, 3}) ref.u[L.force(c) + 2] = m.totalMass() * 9.81 / 2;
-  for (int c : {0, 1}) {  // the left foot held where it is
-    ref.swingPosition[c] = model::framePlacement(m, d, frames[c]).p;
-    ref.swingVelocity[c].setZero();
-  }
-  for (auto& r : sqp.references()) r = ref;
+  for (auto& r : sqp.references()) r = rightFootReference(problem.nu());
   for (int it = 0; it < 15; ++it) ASSERT_TRUE(sqp.iterate(0.0, x0)) << it << ": " << sqp.statistics().message;
   const MpcSolution& s = sqp.solution();
   EXPECT_LT(sqp.statistics().violation, 1e-5);
@@ -363,6 +370,47 @@ TEST_F(Kinodynamic, AFootStandingAloneHoldsTheBodyBesideItsToeHeelLineWithItsSol
     EXPECT_LT(s.x[k].head<6>().norm(), 1.0);  // at rest
     EXPECT_NEAR(s.u[k][problem.soleMoment(1)], held, 0.1 * held);
     EXPECT_EQ(s.u[k][problem.soleMoment(0)], 0.0);  // the lifted foot's
+  }
+}
+
+TEST_F(Kinodynamic, ASolveIteratesWhileThePlanIsFarFromFeasible) {
+  // Standing on one foot from a cold start, as above: the first iteration's plan is far from
+  // feasible. solve() iterates again while the violation is over the tolerance, up to its
+  // maximum, and its plan is the one as many iterate() calls give, to the bit.
+  KinodynamicProblem problem(m, frames, settings(0.3));
+  SqpSettings s = test::controlDefaults().locomotion.sqp;
+  s.nodes = 25;
+  s.dt = 0.04;
+  s.maxIterations = 10;
+  s.violationTolerance = 1e-3;
+  const Eigen::VectorXd x0 = stateOf(qStand, model::Vec6<double>::Zero());
+  const NodeReference ref = rightFootReference(problem.nu());
+  SqpSolver solving(problem, s), iterating(problem, s);
+  for (auto& r : solving.references()) r = ref;
+  for (auto& r : iterating.references()) r = ref;
+  ASSERT_TRUE(solving.solve(0.0, x0)) << solving.statistics().message;
+  const int n = solving.statistics().iterations;
+  EXPECT_GT(n, 1);
+  EXPECT_LT(n, s.maxIterations);
+  EXPECT_LE(solving.statistics().violation, s.violationTolerance);
+  for (int it = 0; it < n; ++it) {
+    if (it > 0) EXPECT_GT(iterating.statistics().violation, s.violationTolerance) << it;
+    ASSERT_TRUE(iterating.iterate(0.0, x0)) << it << ": " << iterating.statistics().message;
+  }
+  EXPECT_EQ(solving.statistics().violation, iterating.statistics().violation);
+  for (std::size_t k = 0; k < solving.solution().u.size(); ++k) {
+    EXPECT_EQ((solving.solution().x[k] - iterating.solution().x[k]).norm(), 0.0) << k;
+    EXPECT_EQ((solving.solution().u[k] - iterating.solution().u[k]).norm(), 0.0) << k;
+  }
+  // At most maxIterations; and none past the first once the plan is within the tolerance.
+  for (const auto& [maxIterations, tolerance, expected] :
+       {std::tuple{2, 1e-3, 2}, std::tuple{10, 1e9, 1}, std::tuple{1, 1e-3, 1}}) {
+    s.maxIterations = maxIterations;
+    s.violationTolerance = tolerance;
+    SqpSolver once(problem, s);
+    for (auto& r : once.references()) r = ref;
+    ASSERT_TRUE(once.solve(0.0, x0)) << once.statistics().message;
+    EXPECT_EQ(once.statistics().iterations, expected) << maxIterations << " " << tolerance;
   }
 }
 
