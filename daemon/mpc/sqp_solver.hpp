@@ -95,8 +95,8 @@ class SqpSolver {
   bool iterate(double t0, const Eigen::VectorXd& xMeasured);
   /// iterate(t0, x̂), then again from the same t0 and x̂ while the plan is far from feasible
   /// (its violation over settings().violationTolerance, a step taken), up to
-  /// settings().maxIterations in all. One iteration leaves a plan that a jump of the references
-  /// (footholds moved by a push, a contact mode come early) made infeasible nearly so, and the
+  /// settings().maxIterations in all. When the references jump (footholds moved by a push, a
+  /// contact mode come early), one iteration leaves a plan still far from feasible, and the
   /// controller tracks it: its base accelerations jumped by tens of m/s² from one plan to the
   /// next. An extra iteration that fails leaves the one before it standing (the solution
   /// iterate() keeps), reported as it was. Returns statistics().ok.
