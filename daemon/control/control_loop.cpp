@@ -347,6 +347,7 @@ void ControlLoop::planPost() {
     planner_input_.state = input_.state;
     planner_input_.command = modes_.command();
     planner_input_.lead = planLead();
+    planner_input_.iteration_budget = options_.lockstep ? 0.0 : 0.5 / settings_->planner_rate;
     planning_ = true;
     bool timed_out = !planner_.post(planner_input_);
     if (planner_input_.restart) {

@@ -106,6 +106,7 @@ void MpcPlanner::plan(const PlannerInput& input, PlannerOutput& output) {
   command.yaw = c.yaw;
   posture_.solve(command.height, c.roll, c.pitch, c.yaw, 5, command.standingJoints.data());
   planner_->setExternalForce(Eigen::Vector3d(input.state.external_force));
+  planner_->setIterationBudget(input.iteration_budget);
 
   // The plan starts where it will be used (see the header comment); a fresh one, with nothing
   // to predict from, at the measured state.

@@ -86,6 +86,10 @@ struct PlannerInput {
   /// s: the plan will be used from t + lead on (the solve's latency), so the planner starts it
   /// there, from the state the plan in force predicts for then (see MpcPlanner).
   double lead = 0.0;
+  /// s of wall time after which the planner's SQP starts no further iteration (past the
+  /// first; mpc::SqpSolver::solve). Real time: half a planner period, so that a plan is not late
+  /// for its extra iterations; lockstep: 0, none (the plans do not depend on the host's speed).
+  double iteration_budget = 0.0;
   /// The planner plans on the newest terrain map made of lidar scans up to this one (scans
   /// count from 1 as the loop hands them off). Real time: all of them; lockstep: those whose
   /// insertion was due by t (mapping.latency), so plans do not depend on the mapping thread's

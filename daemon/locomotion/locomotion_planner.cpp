@@ -321,9 +321,9 @@ bool LocomotionPlanner::update(double t, const Eigen::VectorXd& q, const Eigen::
     Eigen::VectorXd xs = x.head(problem_->nx());
     const mpc::RigidBody& body = static_cast<const mpc::SingleRigidBodyProblem&>(*problem_).body();
     xs.segment<3>(3) = R * body.inertia * v.segment<3>(3);
-    ok = sqp_->solve(t, xs);
+    ok = sqp_->solve(t, xs, iterationBudget_);
   } else {
-    ok = sqp_->solve(t, x);
+    ok = sqp_->solve(t, x, iterationBudget_);
   }
   if (!ok) return false;
 

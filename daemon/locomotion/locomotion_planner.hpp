@@ -144,6 +144,9 @@ class LocomotionPlanner {
   /// The estimated external force on the robot (world, N) for the next update()s: the footholds
   /// lean into it (gait/step_adjustment.hpp).
   void setExternalForce(const Eigen::Vector3d& force) { externalForce_ = force; }
+  /// Wall time (s) after which an update() starts no further SQP iteration
+  /// (mpc::SqpSolver::solve); 0: none.
+  void setIterationBudget(double seconds) { iterationBudget_ = seconds; }
 
   /// The single-rigid-body problem's body: the robot at the nominal posture.
   static mpc::RigidBody nominalBody(const model::Model& model, const Eigen::VectorXd& nominalJoints);
@@ -205,6 +208,7 @@ class LocomotionPlanner {
   Eigen::Vector2d pushDirection_ = Eigen::Vector2d::UnitX();
   gait::Gait recoveryGait_;
   Eigen::Vector3d externalForce_ = Eigen::Vector3d::Zero();
+  double iterationBudget_ = 0.0;  ///< s, setIterationBudget
 };
 
 /// Reads a Plan at the controller's rate (owns its scratch: one per reading thread).

@@ -138,14 +138,16 @@ void SqpSolver::sweepProjected(bool matricesOnly) {
   sweepCpuMs_ += msSince(begin);
 }
 
-bool SqpSolver::solve(double t0, const Eigen::VectorXd& xMeasured) {
+bool SqpSolver::solve(double t0, const Eigen::VectorXd& xMeasured, double budget) {
+  const auto start = Clock::now();
   const bool ok = iterate(t0, xMeasured);
   double linearizeMs = stats_.linearizeMs, projectionMs = stats_.projectionMs,
          riccatiMs = stats_.riccatiMs, lineSearchMs = stats_.lineSearchMs, totalMs = stats_.totalMs;
   const int preparedNodes = stats_.preparedNodes, preparedSweeps = stats_.preparedSweeps;
   int iterations = 1;
   while (ok && iterations < settings_.maxIterations &&
-         stats_.violation > settings_.violationTolerance && stats_.step > 0.0) {
+         stats_.violation > settings_.violationTolerance && stats_.step > 0.0 &&
+         (budget <= 0.0 || msSince(start) < 1e3 * budget)) {
     const double cost = stats_.cost, violation = stats_.violation, step = stats_.step;
     const bool again = iterate(t0, xMeasured);
     ++iterations;

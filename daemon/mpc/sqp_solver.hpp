@@ -99,8 +99,10 @@ class SqpSolver {
   /// contact mode come early), one iteration leaves a plan still far from feasible, and the
   /// controller tracks it: its base accelerations jumped by tens of m/s² from one plan to the
   /// next. An extra iteration that fails leaves the one before it standing (the solution
-  /// iterate() keeps), reported as it was. Returns statistics().ok.
-  bool solve(double t0, const Eigen::VectorXd& xMeasured);
+  /// iterate() keeps), reported as it was. budget (s, wall time; 0: none): no iteration past the
+  /// first starts once the solve has taken this long, so that a real-time plan is not late for
+  /// its extra iterations (a busy host slows them). Returns statistics().ok.
+  bool solve(double t0, const Eigen::VectorXd& xMeasured, double budget = 0.0);
   /// Ahead of iterate(t0, ·), on references() as the caller expects them at t0: see the header.
   /// Nothing before the first solution, nor for a
   /// problem that does not keep its nodes' matrices (OptimalControlProblem::keepsMatrices). An

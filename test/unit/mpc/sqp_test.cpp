@@ -412,6 +412,13 @@ TEST_F(Kinodynamic, ASolveIteratesWhileThePlanIsFarFromFeasible) {
     ASSERT_TRUE(once.solve(0.0, x0)) << once.statistics().message;
     EXPECT_EQ(once.statistics().iterations, expected) << maxIterations << " " << tolerance;
   }
+  // A wall-time budget spent by the first iteration: no other.
+  s.maxIterations = 10;
+  s.violationTolerance = 1e-3;
+  SqpSolver hurried(problem, s);
+  for (auto& r : hurried.references()) r = ref;
+  ASSERT_TRUE(hurried.solve(0.0, x0, 1e-9)) << hurried.statistics().message;
+  EXPECT_EQ(hurried.statistics().iterations, 1);
 }
 
 TEST_F(Kinodynamic, TheSolutionIsTheSameOnOneThreadAsOnSeveral) {
