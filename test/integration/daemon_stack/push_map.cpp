@@ -53,6 +53,7 @@ struct Options {
   double tracePeriod = 0.02;
   bool unpushed = false;  ///< no pushes: the estimated push walking undisturbed, per speed
   double speed = 0.5, direction = 0.0, phase = 0.0, force = 60.0;
+  double yawRate = 0.0;      ///< --yaw-rate: rad/s, every walking trial turns at it
   double standBefore = 1.0;  ///< --stand-before: standing, s from 0.5 s after stand to the push
 };
 
@@ -62,10 +63,12 @@ struct Options {
                "usage: ballast-push-map [--profile FILE] [--speeds 0,0.5,1.0] [--directions 8]\n"
                "         [--angles DEG,DEG...]\n"
                "         [--phases 8] [--step 10] [--max 150] [--guess 60] [--duration 1]\n"
-               "         [--after 4] [--body torso] [-j JOBS] [--out DIR]\n"
+               "         [--after 4] [--body torso] [--yaw-rate 0] [--stand-before 1]\n"
+               "         [-j JOBS] [--out DIR]\n"
                "       ballast-push-map --unpushed [--profile FILE] [--speeds 0.5,1.0,1.2,1.5]\n"
                "       ballast-push-map --trace [--profile FILE] --speed V --direction DEG\n"
                "         --phase FRACTION --force N [--duration 1] [--after 4] [--body LINK]\n"
+               "         [--yaw-rate 0]\n"
                "         [--trace-period 0.02]\n"
                "         [--stand-before 1] (standing: s from 0.5 s after stand to the push)\n");
   std::exit(2);
@@ -108,6 +111,8 @@ Options parse(int argc, char** argv) {
     else if (a == "--direction") o.direction = std::atof(value().c_str());
     else if (a == "--phase") o.phase = std::atof(value().c_str());
     else if (a == "--force") o.force = std::atof(value().c_str());
+    else if (a == "--yaw-rate")
+      o.yawRate = std::atof(value().c_str());
     else if (a == "--stand-before") o.standBefore = std::atof(value().c_str());
     else if (a == "-h" || a == "--help") usage(nullptr);
     else usage(("unknown argument " + a).c_str());
@@ -156,20 +161,17 @@ PushTrial trialFor(const Options& o, const Cell& c, double force) {
   t.duration = o.duration;
   t.after = o.after;
   t.body = o.body;
+  t.yawRate = o.yawRate;
+  t.standBefore = o.standBefore;
   return t;
 }
 
 int trace(const Options& o) {
-  PushTrial t;
-  t.profile = o.profile;
-  t.speed = o.speed;
-  t.directionDeg = o.direction;
-  t.phase = o.phase;
-  t.force = o.force;
-  t.duration = o.duration;
-  t.after = o.after;
-  t.body = o.body;
-  t.standBefore = o.standBefore;
+  Cell c;
+  c.speed = o.speed;
+  c.direction = o.direction;
+  c.phase = o.phase;
+  PushTrial t = trialFor(o, c, o.force);
   t.trace = stdout;
   t.tracePeriod = o.tracePeriod;
   const PushOutcome r = ballast::test::runPushTrial(t);
@@ -297,7 +299,11 @@ int main(int argc, char** argv) {
   std::ostringstream table;
   for (double v : o.speeds) {
     const int phases = v == 0.0 ? 1 : o.phases;
-    table << (v == 0.0 ? std::string("standing") : "walking at " + std::to_string(v).substr(0, 4) + " m/s")
+    table << (v == 0.0 ? std::string("standing")
+                       : "walking at " + std::to_string(v).substr(0, 4) + " m/s")
+          << (v != 0.0 && o.yawRate != 0.0
+                  ? ", turning at " + std::to_string(o.yawRate).substr(0, 5) + " rad/s"
+                  : "")
           << ": largest survived push (N, " << o.duration << " s, on " << o.body << "; grid "
           << o.step << " N up to " << o.max << " N)\n";
     table << "  direction";

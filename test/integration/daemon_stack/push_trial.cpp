@@ -91,7 +91,7 @@ PushOutcome runPushTrial(const PushTrial& trial) {
   const bool walking = trial.speed != 0.0;
   const double period = robot.settings().locomotion.walkGait.period;
   if (walking) {
-    if (robot.walk(trial.speed) != control::Refusal::kNone)
+    if (robot.walk(trial.speed, 0.0, trial.yawRate) != control::Refusal::kNone)
       throw std::runtime_error("walk refused");
   }
   const double t0 = robot.t();
@@ -124,7 +124,7 @@ PushOutcome runPushTrial(const PushTrial& trial) {
   // Watch: every 20 ms (or trace period) the status; velocity over the last gait cycle from
   // positions.
   struct Sample {
-    double t, x, y;
+    double t, x, y, yaw;
   };
   std::deque<Sample> window;
   bool lastContact[2] = {true, true};
@@ -146,15 +146,21 @@ PushOutcome runPushTrial(const PushTrial& trial) {
       if (!stand) backInStand = -1.0;
       continue;
     }
-    window.push_back({s.t, s.truth.position[0], s.truth.position[1]});
+    window.push_back({s.t, s.truth.position[0], s.truth.position[1], s.truth.rpy[2]});
     while (window.size() > 1 && window.front().t < s.t - period - 1e-6) window.pop_front();
     if (s.t < pushEnd + period - 1e-6 || window.front().t > s.t - period + 0.03) continue;
     const double dt = s.t - window.front().t;
     const double vx = (s.truth.position[0] - window.front().x) / dt;
     const double vy = (s.truth.position[1] - window.front().y) / dt;
-    const double c = std::cos(yaw), sn = std::sin(yaw);
+    // Along and across the chord of the cycle's arc: the heading halfway through it.
+    const double turned = std::remainder(s.truth.rpy[2] - window.front().yaw, 2.0 * M_PI);
+    const double chordYaw = window.front().yaw + 0.5 * turned;
+    const double c = std::cos(chordYaw), sn = std::sin(chordYaw);
     const double forward = c * vx + sn * vy, lateral = -sn * vx + c * vy;
-    const bool back = std::abs(forward - trial.speed) <= 0.1 && std::abs(lateral) <= 0.1;
+    const double half = 0.5 * trial.yawRate * dt;
+    const double chordSpeed =
+        std::abs(half) > 1e-9 ? trial.speed * std::sin(half) / half : trial.speed;
+    const bool back = std::abs(forward - chordSpeed) <= 0.1 && std::abs(lateral) <= 0.1;
     if (back && velocityBack < 0.0) velocityBack = s.t - pushEnd;
     if (!back) velocityBack = -1.0;
   }
